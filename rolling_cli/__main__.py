@@ -1,0 +1,5 @@
+"""``python -m rolling_cli`` is ``rollc``."""
+
+from .cli import main
+
+main()

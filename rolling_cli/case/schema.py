@@ -1,0 +1,161 @@
+"""The case-file schema: one frozen dataclass per TOML table.
+
+Each field carries its documentation, units and allowed values in its
+metadata; :mod:`rolling_cli.case.validate` reads them to convert and check a
+TOML document and to report errors by dotted key. Defaults are the documented
+defaults of the README. Units are whatever consistent system the user chooses
+(the README recommends N, mm and MPa = N/mm^2).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+
+def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any) -> Any:
+    """A dataclass field with validation rules in its metadata.
+
+    Rules: ``kind`` ("float", "int", "str", "bool", "float_or_auto"),
+    ``choices``, ``gt``/``ge``/``lt``/``le`` bounds, ``allow_inf``.
+    """
+    metadata = {"doc": doc, "required": required, **rules}
+    return field(default=default, metadata=metadata)
+
+
+@dataclass(frozen=True)
+class Body:
+    """One cylinder: [bodies.A] (upper) or [bodies.B] (lower)."""
+
+    kind: str = spec("elastic", doc="body model", kind="str", choices=("elastic", "rigid", "layered"))
+    radius: float = spec(
+        None,
+        doc="cylinder (outer) radius [length]; inf for a flat",
+        kind="float",
+        gt=0.0,
+        allow_inf=True,
+        required=True,
+    )
+    young: float | None = spec(None, doc="Young's modulus E [stress] (elastic, layered)", kind="float", gt=0.0)
+    poisson: float | None = spec(None, doc="Poisson's ratio nu (elastic, layered)", kind="float", ge=0.0, le=0.5)
+    layer_thickness: float | None = spec(None, doc="layer thickness b [length] (layered)", kind="float", gt=0.0)
+
+    @property
+    def rigid(self) -> bool:
+        return self.kind == "rigid"
+
+    @property
+    def modulus(self) -> float:
+        """Young's modulus for the closed forms: inf for a rigid body [stress]."""
+        return math.inf if self.rigid else float(self.young)
+
+    @property
+    def ratio(self) -> float:
+        """Poisson's ratio for the closed forms (0 for a rigid body: it then multiplies 1/inf)."""
+        return 0.0 if self.rigid else float(self.poisson)
+
+
+@dataclass(frozen=True)
+class Bodies:
+    A: Body = spec(None, doc="upper cylinder", kind="table", required=True)
+    B: Body = spec(None, doc="lower cylinder", kind="table", required=True)
+
+
+@dataclass(frozen=True)
+class Friction:
+    mu: float = spec(None, doc="Coulomb friction coefficient", kind="float", ge=0.0, required=True)
+
+
+@dataclass(frozen=True)
+class Normal:
+    """Exactly one of ``load`` and ``overlap``."""
+
+    load: float | None = spec(None, doc="normal load P [force/length]", kind="float", gt=0.0)
+    overlap: float | None = spec(None, doc="imposed rigid overlap [length] (BEM only)", kind="float", gt=0.0)
+
+
+@dataclass(frozen=True)
+class Tangential:
+    """At most one key; none means free rolling (Q = 0)."""
+
+    q_over_mu_p: float | None = spec(None, doc="Q / (mu P)", kind="float")
+    q_over_p: float | None = spec(None, doc="Q / P", kind="float")
+    load: float | None = spec(None, doc="tangential force Q on body A [force/length]", kind="float")
+    creep: float | None = spec(None, doc="creepage xi = (V_A - V_B)/|V|", kind="float")
+
+    def control(self) -> tuple[str, float]:
+        """(kind, value) of the prescribed tangential quantity; ("load", 0) if none."""
+        for name in ("q_over_mu_p", "q_over_p", "load", "creep"):
+            value = getattr(self, name)
+            if value is not None:
+                return name, float(value)
+        return "load", 0.0
+
+
+@dataclass(frozen=True)
+class Rolling:
+    direction: int = spec(-1, doc="sign of the rolling speed V (the paper uses V < 0)", kind="int", choices=(-1, 1))
+
+
+@dataclass(frozen=True)
+class Discretization:
+    influence: str = spec("half-plane", doc="influence model", kind="str", choices=("half-plane", "bem"))
+    contact_elements: int = spec(200, doc="elements over the potential contact zone", kind="int", ge=2, le=20000)
+    zone: float = spec(1.5, doc="potential zone half-width / Hertz a", kind="float", gt=1.0, le=20.0)
+    element: str = spec(
+        "quadratic",
+        doc="traction interpolation (constant: half-plane only)",
+        kind="str",
+        choices=("quadratic", "constant"),
+    )
+    slip_derivative: str = spec("fd", doc="slip derivative scheme", kind="str", choices=("fd", "element"))
+
+
+@dataclass(frozen=True)
+class Solver:
+    tolerance: float = spec(1e-10, doc="relative residual tolerance", kind="float", gt=0.0, lt=1.0)
+    max_iterations: int = spec(100, doc="Newton iteration cap", kind="int", ge=1, le=100000)
+    penalty: Any = spec("auto", doc='penalty r_t [stress] or "auto"', kind="float_or_auto", gt=0.0)
+
+
+@dataclass(frozen=True)
+class Effects:
+    coupling: str = spec("auto", doc="normal-tangential coupling", kind="str", choices=("auto", "on", "off"))
+
+
+@dataclass(frozen=True)
+class Units:
+    length: str = spec("mm", doc="length unit name (labels only)", kind="str")
+    force: str = spec("N", doc="force unit name (labels only)", kind="str")
+
+    @property
+    def stress(self) -> str:
+        return f"{self.force}/{self.length}^2"
+
+    @property
+    def line_force(self) -> str:
+        return f"{self.force}/{self.length}"
+
+
+@dataclass(frozen=True)
+class Output:
+    file: str | None = spec(None, doc="result file (default: the case name with .h5)", kind="str")
+
+
+@dataclass(frozen=True)
+class Case:
+    """A resolved case. ``source`` is the file it came from (or None)."""
+
+    bodies: Bodies = spec(None, doc="the two cylinders", kind="table", required=True)
+    friction: Friction = spec(None, doc="friction", kind="table", required=True)
+    normal: Normal = spec(None, doc="normal loading", kind="table", required=True)
+    tangential: Tangential = spec(None, doc="tangential loading", kind="table")
+    rolling: Rolling = spec(None, doc="rolling", kind="table")
+    discretization: Discretization = spec(None, doc="discretisation", kind="table")
+    solver: Solver = spec(None, doc="solver", kind="table")
+    effects: Effects = spec(None, doc="effect selection", kind="table")
+    units: Units = spec(None, doc="unit names", kind="table")
+    output: Output = spec(None, doc="output", kind="table")
+    title: str | None = spec(None, doc="case title", kind="str")
+    source: str | None = field(default=None, metadata={"internal": True})

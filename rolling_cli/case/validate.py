@@ -1,0 +1,226 @@
+"""Convert a TOML document into the :mod:`~rolling_cli.case.schema` dataclasses.
+
+Every error is a :class:`~rolling_cli.errors.CaseError` whose one-line message
+names the file, the dotted key, the value and what is allowed, with a
+did-you-mean for misspelt keys. Conversion is field-driven (the dataclass
+metadata), then :func:`check_consistency` applies the cross-field rules.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import math
+from typing import Any
+
+from ..errors import CaseError
+from . import schema
+
+
+def _show(value: Any) -> str:
+    if isinstance(value, str):
+        text = f'"{value}"'
+    elif isinstance(value, dict):
+        text = "{" + ", ".join(sorted(value)) + "}"
+    else:
+        text = repr(value)
+    text = text.replace("\n", " ")
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _fail(file: str | None, key: str, value: Any, problem: str, allowed: str) -> CaseError:
+    return CaseError(f"{key} = {_show(value)}: {problem}; allowed: {allowed}", file=file, key=key)
+
+
+def _bounds_text(meta: dict) -> str:
+    parts = []
+    for rule, sym in (("gt", ">"), ("ge", ">="), ("lt", "<"), ("le", "<=")):
+        if rule in meta:
+            parts.append(f"{sym} {meta[rule]:g}")
+    return "a number " + " and ".join(parts) if parts else "a number"
+
+
+def _allowed(meta: dict) -> str:
+    kind = meta.get("kind")
+    if "choices" in meta:
+        return " | ".join(_show(c) for c in meta["choices"])
+    if kind == "float":
+        text = _bounds_text(meta)
+        return text + (' (or inf / "inf")' if meta.get("allow_inf") else "")
+    if kind == "float_or_auto":
+        return '"auto" or ' + _bounds_text(meta)
+    if kind == "int":
+        return "an integer" + _bounds_text(meta)[len("a number") :]
+    if kind == "bool":
+        return "true | false"
+    return "a string"
+
+
+def _check_bounds(value: float, meta: dict) -> bool:
+    return not (
+        ("gt" in meta and not value > meta["gt"])
+        or ("ge" in meta and not value >= meta["ge"])
+        or ("lt" in meta and not value < meta["lt"])
+        or ("le" in meta and not value <= meta["le"])
+    )
+
+
+def convert_scalar(value: Any, meta: dict, key: str, file: str | None) -> Any:
+    """Check one scalar against its field rules and return the converted value."""
+    kind = meta.get("kind")
+    allowed = _allowed(meta)
+    if kind == "float_or_auto" and value == "auto":
+        return "auto"
+    if kind in ("float", "float_or_auto"):
+        if meta.get("allow_inf") and value == "inf":
+            value = math.inf
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise _fail(file, key, value, "wrong type", allowed)
+        value = float(value)
+        if math.isnan(value) or (math.isinf(value) and not meta.get("allow_inf")):
+            raise _fail(file, key, value, "not a finite number", allowed)
+        if not math.isinf(value) and not _check_bounds(value, meta):
+            raise _fail(file, key, value, "out of range", allowed)
+        if math.isinf(value) and value < 0:
+            raise _fail(file, key, value, "out of range", allowed)
+        return value
+    if kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise _fail(file, key, value, "wrong type", allowed)
+    elif kind == "str":
+        if not isinstance(value, str):
+            raise _fail(file, key, value, "wrong type", allowed)
+    elif kind == "bool":
+        if not isinstance(value, bool):
+            raise _fail(file, key, value, "wrong type", allowed)
+    if "choices" in meta:
+        if value not in meta["choices"]:
+            hint = ""
+            if isinstance(value, str):
+                close = difflib.get_close_matches(value, [str(c) for c in meta["choices"]], n=1)
+                hint = f' (did you mean "{close[0]}"?)' if close else ""
+            raise _fail(file, key, value, "not a valid choice" + hint, allowed)
+    elif kind == "int" and not _check_bounds(value, meta):
+        raise _fail(file, key, value, "out of range", allowed)
+    return value
+
+
+def _table_type(cls: type, name: str) -> type:
+    hints = {"bodies": schema.Bodies, "A": schema.Body, "B": schema.Body}
+    if name in hints:
+        return hints[name]
+    return getattr(schema, name.capitalize())
+
+
+def build(cls: type, data: Any, prefix: str, file: str | None) -> Any:
+    """Build dataclass ``cls`` from the TOML table ``data`` found at ``prefix``."""
+    if not isinstance(data, dict):
+        raise _fail(file, prefix, data, "wrong type", "a table")
+    fields = {f.name: f for f in dataclasses.fields(cls) if not f.metadata.get("internal")}
+    for key, value in data.items():
+        if key not in fields:
+            dotted = f"{prefix}.{key}" if prefix else key
+            close = difflib.get_close_matches(key, list(fields), n=1, cutoff=0.6)
+            problem = "unknown key" + (f" (did you mean {prefix + '.' if prefix else ''}{close[0]}?)" if close else "")
+            raise _fail(file, dotted, value, problem, "keys " + ", ".join(fields))
+    kwargs = {}
+    for name, fld in fields.items():
+        meta = fld.metadata
+        dotted = f"{prefix}.{name}" if prefix else name
+        if meta.get("kind") == "table":
+            if name in data:
+                kwargs[name] = build(_table_type(cls, name), data[name], dotted, file)
+            elif meta.get("required"):
+                raise CaseError(f"{dotted}: missing table; allowed: a [{dotted}] table", file=file, key=dotted)
+            else:
+                kwargs[name] = _table_type(cls, name)()
+            continue
+        if name not in data:
+            if meta.get("required"):
+                raise CaseError(f"{dotted}: missing key; allowed: {_allowed(meta)}", file=file, key=dotted)
+            continue
+        kwargs[name] = convert_scalar(data[name], meta, dotted, file)
+    return cls(**kwargs)
+
+
+def _one_of(table: Any, names: tuple[str, ...], prefix: str, file: str | None, required: bool) -> None:
+    given = [n for n in names if getattr(table, n) is not None]
+    if len(given) > 1:
+        keys = " and ".join(f"{prefix}.{n}" for n in given)
+        raise CaseError(
+            f"{keys} = {', '.join(_show(getattr(table, n)) for n in given)}: more than one given; "
+            f"allowed: exactly one of {', '.join(names)}",
+            file=file,
+            key=f"{prefix}.{given[1]}",
+        )
+    if required and not given:
+        raise CaseError(f"{prefix}: none of {', '.join(names)} given; allowed: exactly one", file=file, key=prefix)
+
+
+def check_consistency(case: schema.Case, file: str | None) -> None:
+    """Cross-field rules: body kinds, one normal and at most one tangential control, model limits."""
+    for label in ("A", "B"):
+        body = getattr(case.bodies, label)
+        key = f"bodies.{label}"
+        if body.kind == "rigid":
+            for name in ("young", "poisson", "layer_thickness"):
+                if getattr(body, name) is not None:
+                    raise _fail(file, f"{key}.{name}", getattr(body, name), 'not used by kind = "rigid"', "remove it")
+        else:
+            for name in ("young", "poisson"):
+                if getattr(body, name) is None:
+                    allowed = _allowed(_meta(schema.Body, name))
+                    raise CaseError(
+                        f'{key}.{name}: missing key (kind = "{body.kind}"); allowed: {allowed}',
+                        file=file,
+                        key=f"{key}.{name}",
+                    )
+            if body.kind == "layered" and body.layer_thickness is None:
+                raise CaseError(
+                    f'{key}.layer_thickness: missing key (kind = "layered"); allowed: a number > 0',
+                    file=file,
+                    key=f"{key}.layer_thickness",
+                )
+            if body.kind == "elastic" and body.layer_thickness is not None:
+                raise _fail(
+                    file, f"{key}.layer_thickness", body.layer_thickness, 'not used by kind = "elastic"', "remove it"
+                )
+    if case.bodies.A.rigid and case.bodies.B.rigid:
+        raise CaseError(
+            'bodies.B.kind = "rigid": both bodies are rigid; allowed: at least one elastic or layered body',
+            file=file,
+            key="bodies.B.kind",
+        )
+    if math.isinf(case.bodies.A.radius) and math.isinf(case.bodies.B.radius):
+        raise CaseError(
+            "bodies.B.radius = inf: both bodies are flat; allowed: at least one finite radius",
+            file=file,
+            key="bodies.B.radius",
+        )
+    _one_of(case.normal, ("load", "overlap"), "normal", file, required=True)
+    _one_of(case.tangential, ("q_over_mu_p", "q_over_p", "load", "creep"), "tangential", file, required=False)
+    disc = case.discretization
+    layered = any(getattr(case.bodies, n).kind == "layered" for n in ("A", "B"))
+    if disc.influence == "half-plane":
+        if case.normal.overlap is not None:
+            raise _fail(
+                file,
+                "normal.overlap",
+                case.normal.overlap,
+                "the half-plane model has no definite compliance (the log kernel leaves the approach free)",
+                'normal.load, or discretization.influence = "bem"',
+            )
+        if layered:
+            raise _fail(file, "discretization.influence", disc.influence, "a layered body needs the BEM model", '"bem"')
+    if disc.influence == "bem" and disc.element == "constant":
+        raise _fail(
+            file, "discretization.element", disc.element, "the BEM model uses quadratic elements", '"quadratic"'
+        )
+    mu = case.friction.mu
+    kind, value = case.tangential.control()
+    if kind == "q_over_mu_p" and mu == 0.0:
+        raise _fail(file, "tangential.q_over_mu_p", value, "undefined for friction.mu = 0", "tangential.load or creep")
+
+
+def _meta(cls: type, name: str) -> dict:
+    return next(f.metadata for f in dataclasses.fields(cls) if f.name == name)

@@ -1,0 +1,146 @@
+"""Decide which physical effects a case needs, before any work is done.
+
+Every skip is exact, not an approximation:
+
+* **coupling** (normal-tangential): skipped when the pair's cross compliance is
+  exactly zero: in the half-plane model when Kalker's K/G is exactly 0
+  (similar materials, or a rigid body against an incompressible one); in the
+  BEM model only for identical bodies, whose cross blocks cancel exactly
+  (a finite BEM block of nu = 0.5 still couples slightly, so it is kept).
+  Then the normal problem is solved first and the tangential one with p_n held,
+  and the coupling blocks are never assembled.
+* **tangential problem**: skipped when mu = 0 (frictionless), or when the
+  coupling is absent and neither a tangential force nor a creepage is
+  prescribed (then p_t = 0 and xi = 0 solve it exactly).
+* **influence**: a rigid body gets no mesh and no influence computation;
+  identical bodies share one.
+
+``[effects] coupling = "on" | "off"`` overrides the choice; "off" on a pair that
+does couple is allowed but warned about, because it drops a real effect.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+
+from . import materials
+from .case.schema import Body, Case
+
+
+@dataclass(frozen=True)
+class Effects:
+    """What is simulated. ``notes`` maps each effect to "simulated: why" or "skipped: why"."""
+
+    strategy: str
+    coupling: bool
+    tangential: bool
+    identical_bodies: bool
+    notes: dict[str, str] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
+
+    def line(self) -> str:
+        """One line for the screen summary."""
+        return "; ".join(f"{name}: {text}" for name, text in self.notes.items())
+
+    def to_json(self) -> str:
+        """JSON text for the result file's ``effects`` attribute."""
+        return json.dumps(
+            {
+                "strategy": self.strategy,
+                "coupling": self.coupling,
+                "tangential": self.tangential,
+                "identical_bodies": self.identical_bodies,
+                "notes": self.notes,
+                "warnings": list(self.warnings),
+            }
+        )
+
+
+def identical(a: Body, b: Body) -> bool:
+    """True when both bodies have the same model and material (so the same influence)."""
+    return (
+        a.kind == b.kind
+        and not a.rigid
+        and a.young == b.young
+        and a.poisson == b.poisson
+        and a.layer_thickness == b.layer_thickness
+    )
+
+
+def cross_compliance(case: Case) -> float:
+    """Kalker's K/G of the pair [1/stress] in the half-plane sense (0 means no coupling)."""
+    a, b = case.bodies.A, case.bodies.B
+    return materials.kalker_k_over_g(a.modulus, a.ratio, b.modulus, b.ratio)
+
+
+def decide(case: Case) -> Effects:
+    """The effects the case calls for (see the module docstring)."""
+    a, b = case.bodies.A, case.bodies.B
+    mu = case.friction.mu
+    kind, value = case.tangential.control()
+    same = identical(a, b)
+    notes: dict[str, str] = {}
+    warnings: list[str] = []
+    bem = case.discretization.influence == "bem"
+    k_over_g = cross_compliance(case)
+    beta = materials.beta_seed(a.modulus, a.ratio, b.modulus, b.ratio)
+
+    if bem:
+        physical = not same
+        why_zero = "identical bodies: the BEM cross blocks cancel exactly"
+        detail = (
+            f"half-plane beta = {beta:.3g}" if beta != 0.0 else "finite-body coupling; beta = 0 only for half-planes"
+        )
+        why_on = f"BEM cross blocks of different bodies do not cancel ({detail})"
+    else:
+        physical = k_over_g != 0.0
+        why_zero = "beta = 0, exactly decoupled"
+        why_on = f"dissimilar materials, beta = {beta:.4g}"
+
+    choice = case.effects.coupling
+    frictionless = mu == 0.0
+    if frictionless:
+        coupling = False
+        notes["coupling"] = "skipped: frictionless (mu = 0), p_t = 0"
+    elif choice == "on":
+        coupling = True
+        notes["coupling"] = 'simulated: forced by effects.coupling = "on"' + ("" if physical else f" ({why_zero})")
+    elif choice == "off":
+        coupling = False
+        notes["coupling"] = 'skipped: effects.coupling = "off"'
+        if physical:
+            warnings.append(f'effects.coupling = "off" drops a real effect: {why_on}')
+    else:
+        coupling = physical
+        notes["coupling"] = f"simulated: {why_on}" if physical else f"skipped: {why_zero}"
+
+    free = (kind == "load" and value == 0.0) or (kind in ("q_over_mu_p", "q_over_p", "creep") and value == 0.0)
+    if frictionless:
+        tangential = False
+        notes["tangential"] = "skipped: frictionless (mu = 0), no tangential unknowns"
+    elif free and not coupling:
+        tangential = False
+        notes["tangential"] = "skipped: no tangential load and no coupling, so p_t = 0 and xi = 0 exactly"
+    else:
+        tangential = True
+        notes["tangential"] = f"simulated: {kind} = {value:g}"
+
+    notes["normal"] = "simulated: " + ("load" if case.normal.load is not None else "overlap") + " control"
+    if not bem:
+        rigid = [label for label, body in (("A", a), ("B", b)) if body.rigid]
+        notes["influence"] = "closed-form half-plane pair, one computation" + (
+            f" (body {rigid[0]} rigid: no compliance)" if rigid else ""
+        )
+    else:
+        for label, body in (("A", a), ("B", b)):
+            if body.rigid:
+                notes[f"influence {label}"] = "skipped: rigid body, no mesh"
+            elif label == "B" and same:
+                notes[f"influence {label}"] = "reused: identical to body A"
+            else:
+                model = "BEM layer" if body.kind == "layered" else "BEM block"
+                notes[f"influence {label}"] = f"simulated: {model}"
+
+    strategy = "coupled" if coupling else ("decoupled" if tangential else "normal")
+    return Effects(strategy, coupling, tangential, same, notes, tuple(warnings))

@@ -1,0 +1,95 @@
+"""Influence models: condensed surface compliances on the contact nodes.
+
+Every model returns the same small interface, :class:`Compliance`: the node
+positions and weights of the contact grid and the four condensed blocks
+
+    [w]   [S_nn  S_nt] [p_n]
+    [u] = [S_tn  S_tt] [p_t]
+
+For one body (``body_compliance`` of a model), w is the surface displacement
+INTO the body and u the displacement along +x, per unit nodal traction: p_n is
+the normal traction (negative in compression), p_t the tangential traction on
+that body along +x. For the pair (:func:`combine`), p_t is the traction on body
+A (B carries -p_t), w = w_A + w_B is the total normal approach of the surfaces
+and u = u_A - u_B the relative tangential displacement of A with respect to B.
+Each body is described in its own mirror frame (x along the surface, z into the
+body), which isotropic elasticity allows, so identical bodies give identical
+blocks and their coupling terms cancel exactly in the pair.
+
+``S_nt``/``S_tn`` are ``None`` when the coupling was not assembled (the effect
+is absent or switched off): they are then exactly zero.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Compliance:
+    """Condensed compliance blocks [length/stress] on the contact nodes.
+
+    ``x`` and ``weights`` [length] are the contact grid's nodes and quadrature
+    weights. ``definite_normal`` says whether S_nn carries a definite rigid
+    constant (a body with a fixed support, as the BEM block): only then can the
+    normal problem be loaded by an imposed overlap.
+    """
+
+    x: np.ndarray
+    weights: np.ndarray
+    S_nn: np.ndarray
+    S_tt: np.ndarray
+    S_nt: np.ndarray | None = None
+    S_tn: np.ndarray | None = None
+    definite_normal: bool = False
+
+    @property
+    def coupled(self) -> bool:
+        """True when the normal-tangential coupling blocks are present."""
+        return self.S_nt is not None
+
+
+def _add(a: np.ndarray | None, b: np.ndarray | None, sign: float) -> np.ndarray | None:
+    if a is None and b is None:
+        return None
+    if a is None:
+        return sign * b
+    if b is None:
+        return a.copy()
+    return a + sign * b
+
+
+def combine(body_a: Compliance | None, body_b: Compliance | None, coupling: bool) -> Compliance:
+    """Pair compliance from the two bodies' own ones (``None`` = rigid body).
+
+    S_nn = S_nn^A + S_nn^B and S_tt = S_tt^A + S_tt^B (direct terms add);
+    S_nt = S_nt^A - S_nt^B and S_tn = S_tn^A - S_tn^B (B carries -p_t and its u
+    enters with a minus), which are the paper's eq. 16-17 and 24-25 written in
+    mirror frames. With ``coupling=False`` the cross blocks are not formed.
+    """
+    bodies = [b for b in (body_a, body_b) if b is not None]
+    if not bodies:
+        raise ValueError("at least one body must be deformable")
+    ref = bodies[0]
+    for other in bodies[1:]:
+        if other.x.shape != ref.x.shape or not np.array_equal(other.x, ref.x):
+            raise ValueError("both bodies must be condensed on the same contact nodes")
+    a_nn = body_a.S_nn if body_a is not None else None
+    b_nn = body_b.S_nn if body_b is not None else None
+    a_tt = body_a.S_tt if body_a is not None else None
+    b_tt = body_b.S_tt if body_b is not None else None
+    s_nt = s_tn = None
+    if coupling:
+        s_nt = _add(body_a.S_nt if body_a else None, body_b.S_nt if body_b else None, -1.0)
+        s_tn = _add(body_a.S_tn if body_a else None, body_b.S_tn if body_b else None, -1.0)
+    return Compliance(
+        x=ref.x,
+        weights=ref.weights,
+        S_nn=_add(a_nn, b_nn, 1.0),
+        S_tt=_add(a_tt, b_tt, 1.0),
+        S_nt=s_nt,
+        S_tn=s_tn,
+        definite_normal=all(b.definite_normal for b in bodies),
+    )

@@ -1,0 +1,125 @@
+"""Closed-form plane-strain half-plane influence (Johnson, Contact Mechanics, 2.2).
+
+For one half-plane (E, nu) under the nodal tractions of the contact grid, in the
+body's own frame (z into the body), with k = 2 (1 - nu^2) / (pi E) and
+c = (1 - 2 nu)(1 + nu) / (2 E):
+
+    w(x) =  k int p_n(s) ln(|x - s|/L) ds + c int p_t(s) sgn(x - s) ds
+    u(x) =  c int p_n(s) sgn(x - s) ds   - k int p_t(s) ln(|x - s|/L) ds
+
+(p_n <= 0 in compression). The log kernel leaves a free rigid constant: the
+reference length L only shifts w and u by constants, so the normal approach
+(overlap) of a half-plane is undefined and this model must be loaded by force.
+Element integrals are exact (:mod:`rolling_cli.kernels`). The grid is uniform,
+so each matrix is block-Toeplitz: only the 2 N_e - 1 element offsets are
+integrated and the matrix is gathered from them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import materials
+from ..grid import NODE_COORDINATES, ContactGrid, shape_coefficients, shape_integrals
+from ..kernels import log_moments, sign_moments
+from . import Compliance
+
+
+def _toeplitz_gather(grid: ContactGrid, per_offset: np.ndarray) -> np.ndarray:
+    """Full (n, n) matrix from values per (element offset, target node, source node).
+
+    ``per_offset[o + N_e - 1, a, k]`` is the entry for target node a of element
+    e_i and source node k of element e_j = e_i - o. Reversing the offsets and
+    flattening (offset, k) makes every matrix row a contiguous window of one
+    vector per a, so the matrix is written row by row from sliding windows.
+    """
+    ne, m = grid.elements, grid.nodes_per_element
+    n = ne * m
+    out = np.empty((ne, m, n))
+    for a in range(m):
+        flat = np.ascontiguousarray(per_offset[::-1, a, :]).reshape(-1)
+        windows = np.lib.stride_tricks.sliding_window_view(flat, n)[::m]  # row t starts at t * m
+        out[:, a, :] = windows[ne - 1 :: -1]
+    return out.reshape(n, n)
+
+
+def _local_coordinates(grid: ContactGrid) -> np.ndarray:
+    """c[o, a]: local coordinate of target node a of element e_j + o in element e_j."""
+    ne = grid.elements
+    offsets = np.arange(-(ne - 1), ne)
+    return 2.0 * offsets[:, None] + NODE_COORDINATES[grid.order][None, :]
+
+
+def log_matrix(grid: ContactGrid, length_scale: float) -> np.ndarray:
+    """L[i, j] = int N_j(s) ln(|x_i - s| / length_scale) ds [length]."""
+    half = 0.5 * grid.element_length
+    coeff = shape_coefficients(grid.order)
+    moments = log_moments(_local_coordinates(grid))  # (o, a, power)
+    deg = coeff.shape[1]
+    per_offset = half * (
+        np.einsum("oam,km->oak", moments[..., :deg], coeff)
+        + np.log(half / length_scale) * shape_integrals(grid.order)[None, None, :]
+    )
+    return _toeplitz_gather(grid, per_offset)
+
+
+def sign_matrix(grid: ContactGrid) -> np.ndarray:
+    """Sg[i, j] = int N_j(s) sgn(x_i - s) ds [length]."""
+    half = 0.5 * grid.element_length
+    coeff = shape_coefficients(grid.order)
+    moments = sign_moments(_local_coordinates(grid))
+    deg = coeff.shape[1]
+    per_offset = half * np.einsum("oam,km->oak", moments[..., :deg], coeff)
+    return _toeplitz_gather(grid, per_offset)
+
+
+def _length_scale(grid: ContactGrid) -> float:
+    """Reference length of the log kernel: e * (zone width), so ln(|x - s|/L) < 0 on the zone."""
+    return float(np.e * 2.0 * grid.half_width)
+
+
+def body_compliance(grid: ContactGrid, young: float, poisson: float, coupling: bool = True) -> Compliance:
+    """Compliance of one elastic half-plane on the contact grid [length/stress]."""
+    return _compliance(
+        grid,
+        direct=2.0 * materials.plane_strain_compliance(young, poisson) / np.pi,
+        cross=materials.coupling_compliance(young, poisson),
+        coupling=coupling,
+    )
+
+
+def pair_compliance(
+    grid: ContactGrid,
+    young_a: float,
+    poisson_a: float,
+    young_b: float,
+    poisson_b: float,
+    coupling: bool = True,
+) -> Compliance:
+    """Compliance of the half-plane pair (``young = inf`` for a rigid body) [length/stress].
+
+    Direct terms add (2 / (pi E*)); cross terms subtract (Kalker's K/G). With
+    ``coupling=False`` the cross blocks are neither integrated nor stored.
+    """
+    e_star = materials.effective_modulus(young_a, poisson_a, young_b, poisson_b)
+    cross = materials.kalker_k_over_g(young_a, poisson_a, young_b, poisson_b)
+    return _compliance(grid, direct=2.0 / (np.pi * e_star), cross=cross, coupling=coupling)
+
+
+def _compliance(grid: ContactGrid, direct: float, cross: float, coupling: bool) -> Compliance:
+    s_nn = log_matrix(grid, _length_scale(grid))
+    s_nn *= direct
+    s_nt = s_tn = None
+    if coupling:
+        s_nt = sign_matrix(grid)
+        s_nt *= cross
+        s_tn = s_nt  # identical kernels: share the array (read-only use)
+    return Compliance(
+        x=grid.x,
+        weights=grid.weights,
+        S_nn=s_nn,
+        S_tt=np.negative(s_nn),
+        S_nt=s_nt,
+        S_tn=s_tn,
+        definite_normal=False,
+    )

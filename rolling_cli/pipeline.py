@@ -1,0 +1,336 @@
+"""One solve, stage by stage: case -> plan -> influence -> system -> Newton -> result.
+
+:func:`solve` is the public entry point; the stages are plain functions so that
+sweeps can reuse the expensive ones (:func:`build_contact_system` is memoised
+on everything it depends on).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime
+import logging
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import __version__, materials
+from . import effects as effects_mod
+from .case import Case, case_to_toml, load_case
+from .errors import ConvergenceError, GrossSlidingError, ZoneError
+from .grid import ContactGrid
+from .influence.build import pair_compliance
+from .references import carter, hertz
+from .result import Result, node_states
+from .solver.control import Controls, solve_rolling
+from .solver.initial import carter_ratio_for_creep, cold_start
+from .solver.newton import State
+from .system import ContactSystem, build_system
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """Derived quantities that fix the discretisation.
+
+    ``modulus`` E* [stress], ``radius`` R* [length], ``beta_seed`` [-],
+    ``half_width`` Hertz a [length] (estimated from the overlap when only the
+    overlap is given), ``p0`` [stress], ``load`` P or its estimate [force/length].
+    """
+
+    modulus: float
+    radius: float
+    beta_seed: float
+    half_width: float
+    p0: float
+    load: float
+    grid: ContactGrid
+    effects: effects_mod.Effects
+
+
+def plan(case: Case) -> Plan:
+    """Materials, Hertz scale, contact grid and effects of a case."""
+    a, b = case.bodies.A, case.bodies.B
+    e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
+    r_star = materials.effective_radius(a.radius, b.radius)
+    beta = materials.beta_seed(a.modulus, a.ratio, b.modulus, b.ratio)
+    if case.normal.load is not None:
+        load = float(case.normal.load)
+        half_width = hertz.half_width(load, r_star, e_star)
+    else:
+        from .influence.build import half_width_from_overlap
+
+        half_width = half_width_from_overlap(case, e_star, r_star)
+        load = hertz.load_for_half_width(half_width, r_star, e_star)
+    p0 = hertz.peak_pressure(load, half_width)
+    disc = case.discretization
+    order = 2 if disc.element == "quadratic" else 0
+    grid = ContactGrid(disc.zone * half_width, disc.contact_elements, order)
+    return Plan(e_star, r_star, beta, half_width, p0, load, grid, effects_mod.decide(case))
+
+
+def check_gross_sliding(case: Case) -> None:
+    """|Q| >= mu P before any work, when P is known (exit code 2 in the CLI)."""
+    kind, value = case.tangential.control()
+    mu = case.friction.mu
+    load = case.normal.load
+    limit = None
+    if kind == "q_over_mu_p" and abs(value) >= 1.0:
+        limit = f"|Q/(mu P)| = {abs(value):g} >= 1"
+    elif kind == "q_over_p" and abs(value) >= mu:
+        limit = f"|Q/P| = {abs(value):g} >= mu = {mu:g}"
+    elif kind == "load" and value != 0.0 and load is not None and abs(value) >= mu * load:
+        limit = f"|Q| = {abs(value):g} >= mu P = {mu * load:g}"
+    if limit:
+        raise GrossSlidingError(
+            f"{case.source + ': ' if case.source else ''}tangential.{kind} = {value:g}: gross sliding, "
+            f"{limit}; the cylinders slide, they do not roll; allowed: |Q| < mu P"
+        )
+
+
+def build_contact_system(case: Case, the_plan: Plan) -> ContactSystem:
+    """Influence (BEM or closed form) and the linear rolling system for a planned case."""
+    disc = case.discretization
+    compliance = pair_compliance(case, the_plan)
+    penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
+    return build_system(
+        compliance,
+        the_plan.radius,
+        case.rolling.direction,
+        the_plan.grid.spacing,
+        disc.slip_derivative,
+        penalty,
+    )
+
+
+def _controls(case: Case, effects: effects_mod.Effects) -> Controls:
+    kind, value = case.tangential.control()
+    if not effects.tangential:
+        kind, value = "none", 0.0
+    return Controls(case.normal.load, case.normal.overlap, (kind, value))
+
+
+def _initial_ratio(case: Case, the_plan: Plan) -> float:
+    kind, value = case.tangential.control()
+    mu = case.friction.mu
+    if mu == 0.0:
+        return 0.0
+    if kind == "q_over_mu_p":
+        return value
+    if kind == "q_over_p":
+        return value / mu
+    if kind == "load":
+        return value / (mu * the_plan.load)
+    return carter_ratio_for_creep(value, carter.full_slip_creepage(the_plan.half_width, the_plan.radius, mu))
+
+
+def initial_state(case: Case, the_plan: Plan, system: ContactSystem) -> State:
+    """Cold start: Hertz pressure and Carter traction and creepage (see :mod:`rolling_cli.solver.initial`)."""
+    kind, value = case.tangential.control()
+    ratio = float(np.clip(_initial_ratio(case, the_plan), -1.0, 1.0))
+    creep = value if kind == "creep" else None
+    return cold_start(system, the_plan.half_width, the_plan.load, case.friction.mu, ratio, creep, case.normal.overlap)
+
+
+#: Grid sequencing: a half-plane solve with at least this many elements starts
+#: from the solution on a grid with a quarter of the elements (recursively).
+SEQUENCING_ELEMENTS = 240
+
+
+def _sequenced_start(case: Case, the_plan: Plan, system: ContactSystem) -> tuple[State, list[dict]]:
+    """Cold start, or for large half-plane grids the interpolated coarse-grid solution.
+
+    Newton's cost on a fine grid is mostly the iterations that move the
+    contact and adhesion boundaries; a solution on a grid 4x coarser (cost
+    1/64 per factorisation) puts them within a node or two. The overlap and
+    creepage carry over unchanged (same zone, same log reference length).
+    """
+    disc = case.discretization
+    if disc.influence != "half-plane" or disc.contact_elements < SEQUENCING_ELEMENTS:
+        return initial_state(case, the_plan, system), []
+    coarse_case = dataclasses.replace(
+        case, discretization=dataclasses.replace(disc, contact_elements=disc.contact_elements // 4)
+    )
+    try:
+        coarse = solve(coarse_case)
+    except (ConvergenceError, ZoneError):
+        return initial_state(case, the_plan, system), []
+    x = system.x
+    p_n = np.minimum(np.interp(x, coarse.x, coarse.p_n, left=0.0, right=0.0), 0.0)
+    bound = -case.friction.mu * p_n
+    p_t = np.clip(np.interp(x, coarse.x, coarse.p_t, left=0.0, right=0.0), -bound, bound)
+    overlap = float(coarse.attributes.get("solved_overlap", 0.0))
+    label = f"coarse grid, {coarse_case.discretization.contact_elements} elements: "
+    history = [{**row, "stage": label + str(row.get("stage", ""))} for row in coarse.history]
+    return State(p_n, p_t, overlap, float(coarse.creep)), history
+
+
+def solve(
+    case: Case | str | dict,
+    *,
+    start: State | None = None,
+    system: ContactSystem | None = None,
+    keep_failed: bool = False,
+) -> Result:
+    """Solve a case (a :class:`Case`, a case-file path or a TOML dict); return a :class:`Result`.
+
+    ``start`` is a warm start (a converged state on the same grid), ``system``
+    a prebuilt contact system for this case (sweeps reuse it). Raises
+    :class:`ConvergenceError`, :class:`ZoneError` or :class:`GrossSlidingError`;
+    with ``keep_failed=True`` a failed solve returns its last iterate marked
+    ``converged = False`` instead of raising.
+    """
+    if not isinstance(case, Case):
+        case = load_case(case)
+    t0 = time.perf_counter()
+    check_gross_sliding(case)
+    the_plan = plan(case)
+    for warning in the_plan.effects.warnings:
+        log.warning(warning)
+    if system is None:
+        system = build_contact_system(case, the_plan)
+    t1 = time.perf_counter()
+    coarse_history: list[dict] = []
+    warm = start is not None and start.p_n.shape == system.x.shape
+    if not warm:
+        start, coarse_history = _sequenced_start(case, the_plan, system)
+        warm = bool(coarse_history)
+    message = ""
+    try:
+        outcome = solve_rolling(
+            system,
+            case.friction.mu,
+            _controls(case, the_plan.effects),
+            start,
+            the_plan.effects.strategy,
+            case.solver.tolerance,
+            case.solver.max_iterations,
+            warm=warm,
+        )
+        state, history, iterations, residual = outcome.state, outcome.history, outcome.iterations, outcome.residual
+        stick = outcome.evaluation.stick
+        converged = True
+    except ConvergenceError as err:
+        if not keep_failed or err.partial is None:
+            raise
+        state, history, iterations, residual = err.partial, err.history, err.iterations or 0, err.residual or math.nan
+        stick = np.zeros(system.size, dtype=bool)
+        converged = False
+        message = str(err)
+    t2 = time.perf_counter()
+    history = coarse_history + history
+    if not the_plan.effects.tangential and case.friction.mu > 0.0:
+        stick = state.p_n < 0.0  # p_t = 0, xi = 0: every contact node adheres
+    result = _assemble(case, the_plan, system, state, stick, history, iterations, residual, converged)
+    result.attributes["message"] = message
+    result.attributes["time_influence"] = t1 - t0
+    result.attributes["time_solve"] = t2 - t1
+    if converged:
+        check_zone(result, system)
+    return result
+
+
+def check_zone(result: Result, system: ContactSystem) -> None:
+    """The contact must stay inside the potential zone: the end nodes must be separated."""
+    contact = result.p_n < 0.0
+    if contact[0] or contact[-1]:
+        raise ZoneError(
+            "the contact reaches the edge of the potential contact zone, so the answer is wrong",
+            residual=result.residual,
+            iterations=result.iterations,
+            cause="discretization.zone is too small for this load; enlarge it "
+            f"(contact covers x = {result.x[contact].min():.4g} .. {result.x[contact].max():.4g}, "
+            f"zone {result.x[0]:.4g} .. {result.x[-1]:.4g})",
+        )
+
+
+def _assemble(case, the_plan, system, state, stick, history, iterations, residual, converged) -> Result:
+    w = system.weights
+    p_n, p_t = state.p_n, state.p_t
+    states = node_states(p_n, stick)
+    load = float(-(w @ p_n))
+    q = float(w @ p_t)
+    mu = case.friction.mu
+    contact = p_n < 0.0
+    half = 0.5 * system.spacing
+    if contact.any():
+        lo, hi = system.x[contact].min() - half, system.x[contact].max() + half
+        centre, half_width = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    else:
+        centre = half_width = math.nan
+    overlap = state.overlap if system.definite_normal else math.nan
+    a, b = case.bodies.A, case.bodies.B
+    attrs = {
+        "format": "rolling_cli.result",
+        "format_version": 1,
+        "software_version": __version__,
+        "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "title": case.title or "",
+        "converged": converged,
+        "iterations": int(iterations),
+        "residual": float(residual),
+        "normal_load": load,
+        "tangential_load": q,
+        "q_over_mu_p": q / (mu * load) if mu > 0.0 and load > 0.0 else math.nan,
+        "creep": float(state.creep) if the_plan.effects.tangential else _free_creep(case),
+        "overlap": float(overlap),
+        "solved_overlap": float(state.overlap),
+        "mu": mu,
+        "hertz_a": the_plan.half_width,
+        "hertz_p0": the_plan.p0,
+        "beta_dundurs": 0.5 * the_plan.beta_seed,
+        "beta_seed": the_plan.beta_seed,
+        "contact_half_width": half_width,
+        "contact_centre": centre,
+        "penalty_n": system.penalty_n,
+        "penalty_t": system.penalty_t,
+        "reference_penalty_n": system.reference_penalty_n,
+        "reference_penalty_t": system.reference_penalty_t,
+        "traction_scale": float(np.max(np.abs(p_n))) if p_n.size else 0.0,
+        "node_spacing": system.spacing,
+        "direction": case.rolling.direction,
+        "influence": case.discretization.influence,
+        "contact_elements": the_plan.grid.elements,
+        "effects": the_plan.effects.to_json(),
+        "effects_line": the_plan.effects.line(),
+        "unit_length": case.units.length,
+        "unit_stress": case.units.stress,
+        "unit_line_force": case.units.line_force,
+        "bodies": f"A: {a.kind}, B: {b.kind}",
+    }
+    reference = {}
+    similar = (
+        effects_mod.cross_compliance(case) == 0.0
+        and a.kind != "layered"
+        and b.kind != "layered"
+        and mu > 0.0
+        and load > 0.0
+    )
+    if similar:
+        ref_a = hertz.half_width(load, the_plan.radius, the_plan.modulus)
+        ref_p0 = hertz.peak_pressure(load, ref_a)
+        reference["hertz_pressure"] = hertz.pressure(system.x, ref_a, ref_p0)
+        ratio = float(np.clip(q / (mu * load), -1.0, 1.0))
+        reference["carter_traction"] = carter.traction(system.x, ratio, ref_a, ref_p0, mu, case.rolling.direction)
+        attrs["carter_creep"] = carter.creepage(ratio, ref_a, the_plan.radius, mu)
+    return Result(
+        x=system.x,
+        weights=w,
+        p_n=p_n,
+        p_t=p_t,
+        delta_n=system.gap(p_n, p_t, state.overlap),
+        s_t=system.reported_slip(p_n, p_t, state.creep),
+        state=states,
+        attributes=attrs,
+        history=history,
+        reference=reference,
+        case_toml=case_to_toml(case),
+    )
+
+
+def _free_creep(case: Case) -> float:
+    kind, value = case.tangential.control()
+    return value if kind == "creep" else 0.0

@@ -1,0 +1,89 @@
+"""The result of one solve: plain arrays plus scalar attributes.
+
+Signs follow the paper: p_n <= 0 in compression; p_t is the traction that body
+B exerts on body A, positive along +x, so Q = sum w p_t is the tangential force
+on A; the slip s_t = (relative slip velocity of A on B) / |V|.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+STATE_NAMES = {0: "separation", 1: "adhesion", 2: "slip"}
+
+#: Dataset name -> (long name, unit key: "length" | "stress" | "1").
+DATASETS = {
+    "x": ("node position along the rolling direction", "length"),
+    "p_n": ("normal traction (negative in compression)", "stress"),
+    "p_t": ("tangential traction on body A (positive along +x)", "stress"),
+    "delta_n": ("normal gap after deformation", "length"),
+    "s_t": ("slip velocity of A relative to B divided by |V|", "1"),
+    "state": ("contact state: 0 separation, 1 adhesion, 2 slip", "1"),
+}
+
+
+@dataclass
+class Result:
+    """Arrays over the n contact nodes and the solve's attributes.
+
+    Arrays: ``x``, ``weights`` [length]; ``p_n``, ``p_t`` [stress];
+    ``delta_n`` [length]; ``s_t`` [-]; ``state`` (int8, :data:`STATE_NAMES`).
+    Scalars (``attributes``): loads P, Q [force/length], creepage, overlap
+    [length] (NaN when undefined), Hertz a [length] and p0 [stress], ...
+    """
+
+    x: np.ndarray
+    weights: np.ndarray
+    p_n: np.ndarray
+    p_t: np.ndarray
+    delta_n: np.ndarray
+    s_t: np.ndarray
+    state: np.ndarray
+    attributes: dict = field(default_factory=dict)
+    history: list[dict] = field(default_factory=list)
+    reference: dict[str, np.ndarray] = field(default_factory=dict)
+    case_toml: str = ""
+
+    def __getattr__(self, name: str):
+        attrs = self.__dict__.get("attributes", {})
+        if name in attrs:
+            return attrs[name]
+        raise AttributeError(name)
+
+    @property
+    def units(self) -> dict[str, str]:
+        """Unit names for "length", "stress", "force/length" and "1"."""
+        return {
+            "length": self.attributes.get("unit_length", "length"),
+            "stress": self.attributes.get("unit_stress", "stress"),
+            "force/length": self.attributes.get("unit_line_force", "force/length"),
+            "1": "1",
+        }
+
+    def zones(self) -> list[tuple[str, float, float]]:
+        """Contiguous runs of one state as (name, x_start, x_end) [length], node cells included."""
+        return state_zones(self.x, self.state)
+
+
+def state_zones(x: np.ndarray, state: np.ndarray) -> list[tuple[str, float, float]]:
+    """Runs of equal state over the node cells [x_i - h/2, x_i + h/2] (uniform grid)."""
+    if x.size == 0:
+        return []
+    half = 0.5 * (x[1] - x[0]) if x.size > 1 else 0.0
+    edges = np.flatnonzero(np.diff(state)) + 1
+    starts = np.concatenate([[0], edges])
+    ends = np.concatenate([edges, [x.size]]) - 1
+    return [
+        (STATE_NAMES[int(state[s])], float(x[s] - half), float(x[e] + half)) for s, e in zip(starts, ends, strict=True)
+    ]
+
+
+def node_states(p_n: np.ndarray, stick: np.ndarray) -> np.ndarray:
+    """int8 state per node: 0 separation (p_n = 0), 1 adhesion, 2 slip."""
+    state = np.zeros(p_n.shape, dtype=np.int8)
+    contact = p_n < 0.0
+    state[contact & stick] = 1
+    state[contact & ~stick] = 2
+    return state

@@ -1,0 +1,70 @@
+"""The short on-screen summary of a result."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from .result import Result
+
+
+def _fmt(value: float, digits: int = 6) -> str:
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "undefined"
+    return f"{value:.{digits}g}"
+
+
+def summary(result: Result, output: str | None = None) -> str:
+    """Multi-line text: convergence, loads, creepage, zones, effects and times."""
+    u = result.units
+    length, stress, line = u["length"], u["stress"], u["force/length"]
+    attrs = result.attributes
+    lines = []
+    title = attrs.get("title") or "rolling_cli result"
+    lines.append(title)
+    status = "yes" if attrs.get("converged") else "NO"
+    lines.append(
+        f"  converged      {status}, {attrs.get('iterations')} Newton iterations, "
+        f"relative residual {attrs.get('residual', math.nan):.2e}"
+    )
+    effects = json.loads(attrs.get("effects", "{}")) if attrs.get("effects") else {}
+    lines.append(f"  effects        {attrs.get('effects_line', '')}")
+    for warning in effects.get("warnings", []):
+        lines.append(f"  WARNING        {warning}")
+    lines.append(
+        f"  loads          P = {_fmt(attrs['normal_load'])} {line}, Q = {_fmt(attrs['tangential_load'])} {line}, "
+        f"Q/(mu P) = {_fmt(attrs.get('q_over_mu_p'), 5)} (mu = {_fmt(attrs['mu'])})"
+    )
+    creep = f"  creepage       xi = {_fmt(attrs['creep'])}"
+    if "carter_creep" in attrs:
+        creep += f" (Carter: {_fmt(attrs['carter_creep'])})"
+    lines.append(creep)
+    overlap = attrs.get("overlap", math.nan)
+    if not math.isnan(overlap):
+        lines.append(f"  overlap        {_fmt(overlap)} {length}")
+    lines.append(
+        f"  Hertz          a = {_fmt(attrs['hertz_a'])} {length}, p0 = {_fmt(attrs['hertz_p0'])} {stress}, "
+        f"beta (Dundurs) = {_fmt(attrs['beta_dundurs'], 4)}"
+    )
+    lines.append(
+        f"  contact        half-width {_fmt(attrs.get('contact_half_width'))} {length}, "
+        f"centre {_fmt(attrs.get('contact_centre'), 4)} {length}"
+    )
+    for name, start, end in result.zones():
+        if name == "separation":
+            continue
+        lines.append(f"  {name:<14} x = {start:.5g} .. {end:.5g} {length}")
+    if "error_estimate" in attrs:
+        lines.append(
+            f"  error estimate max |p_t - p_t(half mesh)| / (mu p0) = {_fmt(attrs['error_estimate'], 3)}, "
+            f"creepage {_fmt(attrs.get('error_estimate_creep'), 3)} (relative)"
+        )
+    lines.append(
+        f"  time           influence {attrs.get('time_influence', 0.0):.3f} s, "
+        f"Newton {attrs.get('time_solve', 0.0):.3f} s"
+    )
+    if attrs.get("message"):
+        lines.append(f"  failure        {attrs['message']}")
+    if output:
+        lines.append(f"  written        {output}")
+    return "\n".join(lines)

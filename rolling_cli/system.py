@@ -1,0 +1,168 @@
+"""The linear part of the rolling contact problem (paper eq. 14, 19-26).
+
+    delta_n = gap0 - overlap + S_nn p_n + S_nt p_t        (normal gap, eq. 14)
+    s_t     = xi e + B_tn p_n + B_tt p_t,  B = T S         (slip, eq. 22-25)
+
+gap0 = x^2 / (2 R*) is the undeformed profile (eq. 7), ``overlap`` the imposed
+rigid approach, xi the creepage, e the creep vector (0 on the gauge row) and T
+the upwind slip operator of :mod:`rolling_cli.slip`. The contact laws and the
+Newton solver in :mod:`rolling_cli.solver` only see these plain arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import slip
+from .influence import Compliance
+
+
+@dataclass(frozen=True)
+class ContactSystem:
+    """Arrays of the discrete rolling problem.
+
+    Units: ``x``, ``weights``, ``spacing`` [length]; ``gap0`` [length];
+    ``S_nn``, ``S_nt`` [length/stress]; ``B_tn``, ``B_tt`` [1/stress] on slip rows
+    (the gauge row holds displacements, [length/stress]); ``penalty_n``
+    [stress/length], ``penalty_t`` [stress] are the solver's penalties, which
+    choose the node states of the Newton Jacobian; ``reference_penalty_*`` are
+    the automatic ones, which measure the residual. ``S_nt``/``B_tn`` are ``None`` when
+    the coupling is not simulated. ``gauge_tn``/``gauge_tt`` are the slip rows of
+    the gauge node by a downwind difference, for reporting only.
+    """
+
+    x: np.ndarray
+    weights: np.ndarray
+    spacing: float
+    gap0: np.ndarray
+    S_nn: np.ndarray
+    B_tt: np.ndarray
+    creep_vector: np.ndarray
+    gauge: int
+    direction: int
+    penalty_n: float
+    penalty_t: float
+    S_nt: np.ndarray | None = None
+    B_tn: np.ndarray | None = None
+    gauge_tn: np.ndarray | None = None
+    gauge_tt: np.ndarray | None = None
+    definite_normal: bool = False
+    reference_penalty_n: float = 0.0
+    reference_penalty_t: float = 0.0
+
+    @property
+    def size(self) -> int:
+        """Number of contact nodes n."""
+        return self.x.shape[0]
+
+    @property
+    def coupled(self) -> bool:
+        """True when the normal-tangential coupling blocks are present."""
+        return self.S_nt is not None
+
+    @property
+    def zone_length(self) -> float:
+        """Length of the potential contact zone, sum of the weights [length]."""
+        return float(self.weights.sum())
+
+    def gap(self, p_n: np.ndarray, p_t: np.ndarray, overlap: float) -> np.ndarray:
+        """Normal gap delta_n [length] (eq. 14)."""
+        out = self.gap0 - overlap + self.S_nn @ p_n
+        if self.S_nt is not None:
+            out += self.S_nt @ p_t
+        return out
+
+    def slip(self, p_n: np.ndarray, p_t: np.ndarray, creep: float) -> np.ndarray:
+        """Slip s_t [-] (eq. 22); the gauge row holds the gauge displacement."""
+        out = creep * self.creep_vector + self.B_tt @ p_t
+        if self.B_tn is not None:
+            out += self.B_tn @ p_n
+        return out
+
+    def reported_slip(self, p_n: np.ndarray, p_t: np.ndarray, creep: float) -> np.ndarray:
+        """Slip velocity at every node [-], the gauge node by a downwind difference."""
+        out = self.slip(p_n, p_t, creep)
+        g = self.gauge
+        value = creep + self.gauge_tt @ p_t
+        if self.gauge_tn is not None:
+            value += self.gauge_tn @ p_n
+        out[g] = value
+        return out
+
+
+def automatic_penalties(S_nn: np.ndarray, B_tt: np.ndarray, spacing: float, direction: int) -> tuple[float, float]:
+    """Penalties scaled to the influence blocks: (r_n [stress/length], r_t [stress]).
+
+    r_t = 1 / max|B_tt| over the slip rows (PHYSICS.md: this choice converged in
+    6 Newton steps where 1000x smaller took 120). r_n = 1 / (Delta max|D S_nn|),
+    D the first-order difference: the largest change of the normal approach
+    between neighbouring nodes per unit nodal pressure. Both are free of the
+    rigid constant of the log kernel, so the half-plane and BEM models get the
+    same scale. The kernels peak at the diagonal, so the maxima are taken over
+    the band |i - j| <= :data:`PENALTY_BAND` (O(n) work instead of O(n^2)).
+    """
+    n = B_tt.shape[0]
+    g = slip.gauge_index(n, direction)
+    rows = np.delete(np.arange(n), g)
+    offsets = np.arange(-PENALTY_BAND, PENALTY_BAND + 1)
+    cols = np.clip(rows[:, None] + offsets[None, :], 0, n - 1)
+    r_t = 1.0 / float(np.max(np.abs(B_tt[rows[:, None], cols])))
+    up = rows - direction  # the upstream neighbour of every slip row
+    d_nn = (S_nn[rows[:, None], cols] - S_nn[up[:, None], cols]) / (-direction * spacing)
+    r_n = 1.0 / (spacing * float(np.max(np.abs(d_nn))))
+    return r_n, r_t
+
+
+#: Half-width of the diagonal band searched for the penalty scales.
+PENALTY_BAND = 6
+
+
+def build_system(
+    compliance: Compliance,
+    radius: float,
+    direction: int,
+    spacing: float,
+    scheme: str = "fd",
+    penalty: float | None = None,
+) -> ContactSystem:
+    """Assemble the contact system from a pair compliance.
+
+    ``radius`` is R* [length], ``direction`` the sign of V, ``spacing`` the node
+    spacing [length], ``scheme`` the slip derivative, ``penalty`` r_t [stress]
+    or ``None`` for automatic (r_n then keeps the automatic ratio r_n/r_t).
+    """
+    x = compliance.x
+    n = x.shape[0]
+    g = slip.gauge_index(n, direction)
+    b_tt = slip.apply_t(compliance.S_tt, spacing, direction, scheme)
+    b_tn = None
+    gauge_tn = None
+    if compliance.S_tn is not None:
+        b_tn = slip.apply_t(compliance.S_tn, spacing, direction, scheme)
+        gauge_tn = slip.downwind_row(compliance.S_tn, spacing, direction)
+    ref_n, ref_t = automatic_penalties(compliance.S_nn, b_tt, spacing, direction)
+    r_n, r_t = ref_n, ref_t
+    if penalty is not None:
+        r_n, r_t = ref_n * penalty / ref_t, float(penalty)
+    return ContactSystem(
+        x=x,
+        weights=compliance.weights,
+        spacing=spacing,
+        gap0=0.5 * x**2 / radius,
+        S_nn=compliance.S_nn,
+        S_nt=compliance.S_nt,
+        B_tn=b_tn,
+        B_tt=b_tt,
+        creep_vector=slip.creep_vector(n, direction),
+        gauge=g,
+        direction=direction,
+        penalty_n=r_n,
+        penalty_t=r_t,
+        reference_penalty_n=ref_n,
+        reference_penalty_t=ref_t,
+        gauge_tn=gauge_tn,
+        gauge_tt=slip.downwind_row(compliance.S_tt, spacing, direction),
+        definite_normal=compliance.definite_normal,
+    )

@@ -1,0 +1,141 @@
+"""The rollc command line: exit codes, one-line messages, output files."""
+
+import math
+import os
+
+import h5py
+import numpy as np
+import tomli_w
+from click.testing import CliRunner
+from helpers import CARTER, case_dict
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from rolling_cli import __version__
+from rolling_cli.cli import main
+
+
+def _write(tmp_path, data, name="case.toml"):
+    path = tmp_path / name
+    path.write_text(tomli_w.dumps(data))
+    return path
+
+
+def _run(*args):
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
+def test_version():
+    result = _run("--version")
+    assert result.exit_code == 0 and __version__ in result.output
+
+
+def test_solve_writes_result_and_summary(tmp_path):
+    case = _write(tmp_path, CARTER)
+    out = tmp_path / "out.h5"
+    result = _run("solve", case, "-o", out)
+    assert result.exit_code == 0, result.output
+    for text in ("converged      yes", "Q/(mu P) = 0.51", "creepage", "adhesion", "slip", "time", "effects"):
+        assert text in result.output
+    with h5py.File(out) as f:
+        assert f.attrs["format"] == "rolling_cli.result" and f.attrs["converged"]
+
+
+def test_default_output_name_is_case_name_in_working_directory(tmp_path, monkeypatch):
+    case = _write(tmp_path, CARTER, "mycase.toml")
+    monkeypatch.chdir(tmp_path)
+    assert _run("-q", "solve", case).exit_code == 0
+    assert (tmp_path / "mycase.h5").exists()
+
+
+def test_check_prints_resolved_case_with_hertz(tmp_path):
+    result = _run("check", _write(tmp_path, CARTER))
+    assert result.exit_code == 0
+    assert "hertz_a = 1.0000" in result.output and "hertz_p0 = 1153.8" in result.output
+    assert "max_iterations = 100" in result.output  # defaults are resolved
+
+
+def test_bad_case_exits_2_with_one_line_and_no_traceback(tmp_path):
+    case = _write(tmp_path, case_dict(**{"bodies.A.poisson": 0.7}))
+    out = tmp_path / "out.h5"
+    result = _run("solve", case, "-o", out)
+    assert result.exit_code == 2
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1
+    assert "case.toml: bodies.A.poisson = 0.7: out of range; allowed: a number >= 0 and <= 0.5" in lines[0]
+    assert "Traceback" not in result.output
+    assert not out.exists()
+
+
+def test_gross_sliding_exits_2(tmp_path):
+    case = _write(tmp_path, case_dict(**{"tangential.q_over_mu_p": 1.0}))
+    result = _run("solve", case, "-o", tmp_path / "o.h5")
+    assert result.exit_code == 2 and "gross sliding" in result.output
+
+
+def test_non_convergence_exits_1_and_writes_nothing_unless_asked(tmp_path):
+    data = case_dict(**{"solver.max_iterations": 1, "bodies.A.young": 60260.0, "bodies.A.poisson": 0.31})
+    case = _write(tmp_path, data)
+    out = tmp_path / "o.h5"
+    result = _run("solve", case, "-o", out)
+    assert result.exit_code == 1
+    assert "did not converge" in result.output and "relative residual" in result.output
+    assert "likely cause" in result.output
+    assert not out.exists() and not [p for p in os.listdir(tmp_path) if p.endswith(".tmp")]
+    kept = _run("solve", case, "-o", out, "--keep-failed")
+    assert kept.exit_code == 1
+    with h5py.File(out) as f:
+        assert not f.attrs["converged"]
+        assert len(f["convergence/residual"]) >= 1
+
+
+def test_zone_too_small_fails_clearly(tmp_path):
+    case = _write(tmp_path, case_dict(**{"discretization.zone": 1.001, "discretization.contact_elements": 50}))
+    result = _run("solve", case, "-o", tmp_path / "o.h5")
+    assert result.exit_code == 1
+    assert "edge of the potential contact zone" in result.output and "discretization.zone" in result.output
+
+
+_KEYS = [
+    ("bodies.A.young", st.one_of(st.floats(max_value=0.0, allow_nan=False), st.text(max_size=5), st.booleans())),
+    ("bodies.B.poisson", st.one_of(st.floats(min_value=0.5000001, max_value=1e6), st.floats(max_value=-1e-9))),
+    ("friction.mu", st.one_of(st.floats(max_value=-1e-12), st.just(math.nan), st.text(max_size=3))),
+    ("rolling.direction", st.integers().filter(lambda v: v not in (-1, 1))),
+    ("discretization.contact_elements", st.one_of(st.integers(max_value=1), st.floats(allow_nan=False))),
+    ("discretization.influence", st.text(max_size=8).filter(lambda v: v not in ("bem", "half-plane"))),
+    ("solver.tolerance", st.one_of(st.floats(max_value=0.0, allow_nan=False), st.floats(min_value=1.0))),
+    ("normal.load", st.floats(max_value=0.0, allow_nan=False)),
+]
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(choice=st.sampled_from(range(len(_KEYS))), data=st.data())
+def test_broken_cases_exit_2_naming_the_key(tmp_path, choice, data):
+    key, strategy = _KEYS[choice]
+    value = data.draw(strategy)
+    if isinstance(value, float) and math.isnan(value):
+        value = "nan"  # TOML text for NaN is written by tomli-w as nan
+    case = _write(tmp_path, case_dict(**{key: value}))
+    result = _run("solve", case, "-o", tmp_path / "o.h5")
+    assert result.exit_code == 2, result.output
+    line = result.output.strip()
+    assert "\n" not in line and "Traceback" not in line
+    assert "case.toml" in line and key in line and "allowed" in line
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(key=st.text(alphabet="abcdefghijklmnopqrstuvwxyz_", min_size=1, max_size=10))
+def test_unknown_keys_exit_2(tmp_path, key):
+    if key in CARTER["friction"]:
+        return
+    case = _write(tmp_path, case_dict(**{f"friction.{key}": 1.0}))
+    result = _run("check", case)
+    assert result.exit_code == 2
+    assert f"friction.{key} = 1.0: unknown key" in result.output
+
+
+def test_plain_garbage_file_exits_2(tmp_path):
+    path = tmp_path / "case.toml"
+    path.write_bytes(np.random.default_rng(0).bytes(200))
+    result = _run("solve", path)
+    assert result.exit_code == 2 and "case.toml" in result.output

@@ -1,0 +1,93 @@
+"""Closed-form half-plane influence against independent quadrature and physics."""
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from rolling_cli import materials
+from rolling_cli.grid import NODE_COORDINATES, ContactGrid, shape_coefficients
+from rolling_cli.influence import combine, halfplane
+
+
+def _shape(grid, j, s):
+    """Value of node j's shape function at position s (independent evaluation)."""
+    m = grid.nodes_per_element
+    e, k = divmod(j, m)
+    lo, hi = grid.edges[e], grid.edges[e + 1]
+    if not lo <= s <= hi:
+        return 0.0
+    xi = (2 * s - lo - hi) / (hi - lo)
+    nodes = NODE_COORDINATES[grid.order]
+    others = [n for i, n in enumerate(nodes) if i != k]
+    return float(np.prod([(xi - o) / (nodes[k] - o) for o in others]))
+
+
+@pytest.mark.parametrize("order", [0, 2])
+def test_log_and_sign_matrices_match_quadrature(order):
+    grid = ContactGrid(half_width=1.5, elements=7, order=order)
+    L = 2.0
+    log = halfplane.log_matrix(grid, L)
+    sgn = halfplane.sign_matrix(grid)
+    rng = np.random.default_rng(3)
+    n = grid.size
+    pairs = [(0, 0), (n - 1, 0), (n // 2, n // 2), (n // 2, n // 2 + 1)]
+    pairs += [tuple(rng.integers(0, n, 2)) for _ in range(8)]
+    for i, j in pairs:
+        e = j // grid.nodes_per_element
+        lo, hi = grid.edges[e], grid.edges[e + 1]
+        xi = grid.x[i]
+        brk = [xi] if lo < xi < hi else None
+        ref_log = quad(
+            lambda s: _shape(grid, j, s) * np.log(abs(xi - s) / L) if s != xi else 0.0, lo, hi, points=brk, limit=200
+        )[0]
+        ref_sgn = quad(lambda s: _shape(grid, j, s) * np.sign(xi - s), lo, hi, points=brk)[0]
+        assert log[i, j] == pytest.approx(ref_log, abs=1e-11)
+        assert sgn[i, j] == pytest.approx(ref_sgn, abs=1e-12)
+
+
+def test_shape_functions_are_lagrange():
+    coeff = shape_coefficients(2)
+    nodes = NODE_COORDINATES[2]
+    values = coeff @ np.vander(nodes, 3, increasing=True).T
+    assert np.allclose(values, np.eye(3), atol=1e-14)
+
+
+def test_pressure_pushes_surface_into_body_and_draws_it_inward():
+    """Johnson 2.2: a pressure moves the surface into the body, most under the load,
+    and (nu < 0.5) pulls the surface towards the load: u_x < 0 right of it."""
+    grid = ContactGrid(half_width=1.0, elements=40, order=2)
+    body = halfplane.body_compliance(grid, 2e5, 0.3)
+    p_n = -np.where(np.abs(grid.x) < 0.3, 1.0, 0.0)  # compressive strip
+    w = body.S_nn @ p_n
+    u = body.S_tn @ p_n
+    assert np.argmax(w) in range(grid.size // 2 - 2, grid.size // 2 + 2)
+    assert w[grid.size // 2] - w[0] > 0
+    assert u[-1] < 0 < u[0]
+    # the displacement difference between two points matches Johnson's strip-load formula
+    k = 2 * materials.plane_strain_compliance(2e5, 0.3) / np.pi
+
+    def antiderivative(t):  # int ln|t| dt
+        return t * np.log(abs(t)) - t if t != 0 else 0.0
+
+    def w_exact(x):  # -k int_{-b}^{b} ln|x - s| ds under a unit pressure
+        b = 0.3
+        return -k * (antiderivative(x + b) - antiderivative(x - b))
+
+    i, j = grid.size // 2, 5
+    exact = w_exact(grid.x[i]) - w_exact(grid.x[j])
+    assert w[i] - w[j] == pytest.approx(exact, rel=1e-3)  # strip edge inside an element: O(h) error
+
+
+def test_pair_is_sum_of_bodies_and_coupling_cancels_for_identical_bodies():
+    grid = ContactGrid(half_width=1.0, elements=10, order=2)
+    a = halfplane.body_compliance(grid, 6e4, 0.31)
+    b = halfplane.body_compliance(grid, 2.1e5, 0.28)
+    pair = halfplane.pair_compliance(grid, 6e4, 0.31, 2.1e5, 0.28)
+    combined = combine(a, b, coupling=True)
+    for name in ("S_nn", "S_tt", "S_nt", "S_tn"):
+        assert np.allclose(getattr(pair, name), getattr(combined, name), rtol=1e-12, atol=1e-20)
+    same = combine(a, a, coupling=True)
+    assert np.all(same.S_nt == 0.0) and np.all(same.S_tn == 0.0)
+    rigid_a = combine(None, b, coupling=True)
+    assert np.array_equal(rigid_a.S_nt, -b.S_nt)
+    assert halfplane.pair_compliance(grid, 6e4, 0.31, 2.1e5, 0.28, coupling=False).S_nt is None
