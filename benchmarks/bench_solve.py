@@ -21,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import rolling_cli  # noqa: E402
 from rolling_cli.case import load_case, with_overrides  # noqa: E402
-from rolling_cli.influence.build import _halfplane  # noqa: E402
+from rolling_cli.influence.build import clear_memo  # noqa: E402
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -29,7 +29,7 @@ CASES = Path(__file__).resolve().parents[1] / "cases"
 def run(case, repeat):
     times, result = [], None
     for _ in range(repeat):
-        _halfplane.cache_clear()  # every run builds its influence: no in-process reuse
+        clear_memo()  # every run builds its influence: no in-process reuse
         t = time.perf_counter()
         result = rolling_cli.solve(case)
         times.append(time.perf_counter() - t)

@@ -69,8 +69,9 @@ def main(ctx: click.Context, verbose: int, quiet: int) -> None:
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Result file (.h5).")
 @click.option("--keep-failed", is_flag=True, help="Write the last iterate of a failed solve, marked converged = false.")
 @click.option("--plot", "make_plot", is_flag=True, help="Also write a PNG figure beside the result.")
+@click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
 @click.pass_context
-def solve(ctx, case_file, output, keep_failed, make_plot):
+def solve(ctx, case_file, output, keep_failed, make_plot, no_cache):
     """Solve CASE_FILE and write the result to HDF5."""
 
     def action():
@@ -82,7 +83,7 @@ def solve(ctx, case_file, output, keep_failed, make_plot):
         case = load_case(case_file)
         out = output or default_output(case_file, case.output.file)
         start = time.perf_counter()
-        result = run_solve(case, keep_failed=keep_failed)
+        result = run_solve(case, keep_failed=keep_failed, use_cache=not no_cache)
         result.attributes["time_total"] = time.perf_counter() - start
         write_result(result, out)
         if make_plot:

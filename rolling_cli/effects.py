@@ -21,6 +21,7 @@ does couple is allowed but warned about, because it drops a real effect.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from dataclasses import dataclass, field
 
@@ -38,6 +39,15 @@ class Effects:
     identical_bodies: bool
     notes: dict[str, str] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
+
+    def with_influence_origin(self, origin: dict[str, str]) -> Effects:
+        """A copy whose influence notes say where each BEM body came from (computed, cache, reused)."""
+        notes = dict(self.notes)
+        for label, where in origin.items():
+            key = f"influence {label}"
+            if key in notes and where in ("computed", "cache", "reused in-process"):
+                notes[key] = f"{notes[key]} ({'from disk cache' if where == 'cache' else where})"
+        return dataclasses.replace(self, notes=notes)
 
     def line(self) -> str:
         """One line for the screen summary."""

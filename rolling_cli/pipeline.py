@@ -51,25 +51,85 @@ class Plan:
     effects: effects_mod.Effects
 
 
-def plan(case: Case) -> Plan:
-    """Materials, Hertz scale, contact grid and effects of a case."""
+def plan(case: Case, half_width: float | None = None, use_cache: bool = True) -> Plan:
+    """Materials, contact scale a, contact grid and effects of a case.
+
+    a is the Hertz half-width when the load is prescribed and both bodies are
+    half-spaces; otherwise (an imposed overlap, or a layered body) it is
+    measured by a coarse frictionless pre-solve (:func:`estimate_half_width`).
+    ``half_width`` overrides it.
+    """
     a, b = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
     r_star = materials.effective_radius(a.radius, b.radius)
     beta = materials.beta_seed(a.modulus, a.ratio, b.modulus, b.ratio)
+    if half_width is None:
+        if case.normal.load is not None and not _layered(case):
+            half_width = hertz.half_width(float(case.normal.load), r_star, e_star)
+        else:
+            half_width = estimate_half_width(case, e_star, r_star, use_cache)
     if case.normal.load is not None:
         load = float(case.normal.load)
-        half_width = hertz.half_width(load, r_star, e_star)
     else:
-        from .influence.build import half_width_from_overlap
-
-        half_width = half_width_from_overlap(case, e_star, r_star)
         load = hertz.load_for_half_width(half_width, r_star, e_star)
     p0 = hertz.peak_pressure(load, half_width)
     disc = case.discretization
     order = 2 if disc.element == "quadratic" else 0
     grid = ContactGrid(disc.zone * half_width, disc.contact_elements, order)
     return Plan(e_star, r_star, beta, half_width, p0, load, grid, effects_mod.decide(case))
+
+
+def _layered(case: Case) -> bool:
+    return case.bodies.A.kind == "layered" or case.bodies.B.kind == "layered"
+
+
+#: Coarse pre-solve: contact elements, and potential zone / first guess of a.
+PRESOLVE_ELEMENTS = 16
+PRESOLVE_ZONE = 2.5
+
+
+def estimate_half_width(case: Case, e_star: float, r_star: float, use_cache: bool = True) -> float:
+    """Contact half-width a [length] from coarse frictionless normal solves of the case's own model.
+
+    First guess: Hertz a for a prescribed load, else the geometric interference
+    half-width sqrt(2 R* overlap). Coarse solves (the model's geometry scaled
+    by the current guess) refine it until it moves by less than two coarse
+    node spacings; the zone doubles if the contact reaches its edge.
+    """
+    if case.normal.load is not None:
+        guess = hertz.half_width(float(case.normal.load), r_star, e_star)
+    else:
+        guess = float(np.sqrt(2.0 * r_star * case.normal.overlap))
+    zone = PRESOLVE_ZONE
+    coarse = dataclasses.replace(
+        case,
+        friction=dataclasses.replace(case.friction, mu=0.0),
+        tangential=type(case.tangential)(),
+        solver=dataclasses.replace(case.solver, penalty="auto"),
+    )
+    for _ in range(6):
+        trial = dataclasses.replace(
+            coarse,
+            discretization=dataclasses.replace(
+                case.discretization, contact_elements=PRESOLVE_ELEMENTS, zone=zone, slip_derivative="fd"
+            ),
+        )
+        the_plan = plan(trial, half_width=guess)
+        system = build_contact_system(trial, the_plan, use_cache)
+        start = initial_state(trial, the_plan, system)
+        outcome = solve_rolling(
+            system, 0.0, _controls(trial, the_plan.effects), start, "normal", 1e-10, trial.solver.max_iterations
+        )
+        contact = outcome.state.p_n < 0.0
+        if contact[0] or contact[-1] or not contact.any():
+            zone *= 2.0
+            continue
+        half = 0.5 * system.spacing
+        measured = 0.5 * (system.x[contact].max() - system.x[contact].min()) + half
+        if abs(measured - guess) <= 2.0 * system.spacing:
+            return float(measured)
+        guess, zone = float(measured), 1.6
+    return float(guess)
 
 
 def check_gross_sliding(case: Case) -> None:
@@ -91,12 +151,19 @@ def check_gross_sliding(case: Case) -> None:
         )
 
 
-def build_contact_system(case: Case, the_plan: Plan) -> ContactSystem:
+def build_contact_system(case: Case, the_plan: Plan, use_cache: bool = True) -> ContactSystem:
     """Influence (BEM or closed form) and the linear rolling system for a planned case."""
+    return build_contact_system_with_origin(case, the_plan, use_cache)[0]
+
+
+def build_contact_system_with_origin(
+    case: Case, the_plan: Plan, use_cache: bool = True
+) -> tuple[ContactSystem, dict[str, str]]:
+    """As :func:`build_contact_system`, plus where each body's influence came from."""
     disc = case.discretization
-    compliance = pair_compliance(case, the_plan)
+    compliance, origin = pair_compliance(case, the_plan, use_cache)
     penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
-    return build_system(
+    system = build_system(
         compliance,
         the_plan.radius,
         case.rolling.direction,
@@ -104,6 +171,7 @@ def build_contact_system(case: Case, the_plan: Plan) -> ContactSystem:
         disc.slip_derivative,
         penalty,
     )
+    return system, origin
 
 
 def _controls(case: Case, effects: effects_mod.Effects) -> Controls:
@@ -160,6 +228,12 @@ def _sequenced_start(case: Case, the_plan: Plan, system: ContactSystem) -> tuple
         return initial_state(case, the_plan, system), []
     x = system.x
     p_n = np.minimum(np.interp(x, coarse.x, coarse.p_n, left=0.0, right=0.0), 0.0)
+    # Err on the small side at the contact edges: a contact set too large is shed
+    # one node per Newton iteration (only the outermost node shows tension), a
+    # set too small gains all its missing nodes at once (all of them penetrate).
+    in_contact = coarse.x[coarse.p_n < 0.0]
+    if in_contact.size:
+        p_n[(x < in_contact.min()) | (x > in_contact.max())] = 0.0
     bound = -case.friction.mu * p_n
     p_t = np.clip(np.interp(x, coarse.x, coarse.p_t, left=0.0, right=0.0), -bound, bound)
     overlap = float(coarse.attributes.get("solved_overlap", 0.0))
@@ -174,11 +248,13 @@ def solve(
     start: State | None = None,
     system: ContactSystem | None = None,
     keep_failed: bool = False,
+    use_cache: bool = True,
 ) -> Result:
     """Solve a case (a :class:`Case`, a case-file path or a TOML dict); return a :class:`Result`.
 
     ``start`` is a warm start (a converged state on the same grid), ``system``
-    a prebuilt contact system for this case (sweeps reuse it). Raises
+    a prebuilt contact system for this case (sweeps reuse it); ``use_cache``
+    allows the on-disk BEM influence cache. Raises
     :class:`ConvergenceError`, :class:`ZoneError` or :class:`GrossSlidingError`;
     with ``keep_failed=True`` a failed solve returns its last iterate marked
     ``converged = False`` instead of raising.
@@ -187,11 +263,12 @@ def solve(
         case = load_case(case)
     t0 = time.perf_counter()
     check_gross_sliding(case)
-    the_plan = plan(case)
+    the_plan = plan(case, use_cache=use_cache)
     for warning in the_plan.effects.warnings:
         log.warning(warning)
     if system is None:
-        system = build_contact_system(case, the_plan)
+        system, origin = build_contact_system_with_origin(case, the_plan, use_cache)
+        the_plan = dataclasses.replace(the_plan, effects=the_plan.effects.with_influence_origin(origin))
     t1 = time.perf_counter()
     coarse_history: list[dict] = []
     warm = start is not None and start.p_n.shape == system.x.shape
@@ -279,8 +356,11 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "overlap": float(overlap),
         "solved_overlap": float(state.overlap),
         "mu": mu,
-        "hertz_a": the_plan.half_width,
-        "hertz_p0": the_plan.p0,
+        "hertz_a": hertz.half_width(load, the_plan.radius, the_plan.modulus) if load > 0 else math.nan,
+        "hertz_p0": hertz.peak_pressure(load, hertz.half_width(load, the_plan.radius, the_plan.modulus))
+        if load > 0
+        else math.nan,
+        "mesh_half_width": the_plan.half_width,
         "beta_dundurs": 0.5 * the_plan.beta_seed,
         "beta_seed": the_plan.beta_seed,
         "contact_half_width": half_width,

@@ -100,7 +100,7 @@ class Rolling:
 
 @dataclass(frozen=True)
 class Discretization:
-    influence: str = spec("half-plane", doc="influence model", kind="str", choices=("half-plane", "bem"))
+    influence: str = spec("bem", doc="influence model", kind="str", choices=("bem", "half-plane"))
     contact_elements: int = spec(200, doc="elements over the potential contact zone", kind="int", ge=2, le=20000)
     zone: float = spec(1.5, doc="potential zone half-width / Hertz a", kind="float", gt=1.0, le=20.0)
     element: str = spec(
@@ -110,6 +110,11 @@ class Discretization:
         choices=("quadratic", "constant"),
     )
     slip_derivative: str = spec("fd", doc="slip derivative scheme", kind="str", choices=("fd", "element"))
+    block_width: float = spec(100.0, doc="BEM half-space block: half-width / a", kind="float", gt=2.0, le=10000.0)
+    block_depth: float = spec(100.0, doc="BEM half-space block: depth / a", kind="float", gt=1.0, le=10000.0)
+    layer_length: float = spec(
+        10.0, doc="BEM layer: free length beyond the zone / layer thickness", kind="float", gt=0.5, le=1000.0
+    )
 
 
 @dataclass(frozen=True)

@@ -248,7 +248,7 @@ def _newton_point(problem: Problem, state: State, ev: Evaluation) -> State:
     nc = c_idx.size if problem.normal else 0
     ns = st_idx.size if problem.tangential else 0
     size = nc + ns + overlap_unknown + creep_unknown
-    A = np.zeros((size, size))
+    A = np.zeros((size, size), order="F")  # LAPACK layout: no copy before the LU
     rhs = np.zeros(size)
     rows_n = slice(0, nc)
     rows_t = slice(nc, nc + ns)

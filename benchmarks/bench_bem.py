@@ -1,0 +1,95 @@
+"""BEM timings: mesh, assembly, factorisation, condensation and the Newton solve.
+
+For the paper's similar case (R = 100 mm, overlap 0.015 mm, Q/(mu P) = 0.51,
+half-space blocks of the default 100 a), 21 to 320 contact elements. The
+influence cache is off, so every stage is really computed; each time is the
+median of ``--repeat`` runs.
+
+    python benchmarks/bench_bem.py [--repeat 3] [--elements 21,40,80,160,320]
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import rolling_cli  # noqa: E402
+from rolling_cli.case import load_case, with_overrides  # noqa: E402
+from rolling_cli.influence import bem  # noqa: E402
+from rolling_cli.influence.bem.assembly import assemble  # noqa: E402
+from rolling_cli.influence.bem.condense import (  # noqa: E402
+    boundary_system,
+    contact_dofs,
+    factorise,
+    unit_load_responses,
+)
+from rolling_cli.influence.build import bem_inputs, clear_memo  # noqa: E402
+from rolling_cli.pipeline import plan  # noqa: E402
+
+CASE = Path(__file__).resolve().parents[1] / "cases" / "paper_fig3_q051.toml"
+
+
+def stages(case):
+    """Seconds per stage for one BEM body, then the full solve."""
+    the_plan = plan(case, use_cache=False)
+    body = case.bodies.A
+    inputs = bem_inputs(case, the_plan, body)
+    grid = the_plan.grid
+    out = {}
+    t = time.perf_counter()
+    mesh = bem.body_mesh(grid, inputs["half_width"], inputs["depth"])
+    out["mesh"] = time.perf_counter() - t
+    shear = body.young / (2 * (1 + body.poisson))
+    t = time.perf_counter()
+    H, G = assemble(mesh, shear, body.poisson)
+    out["assembly"] = time.perf_counter() - t
+    A, B = boundary_system(mesh, H, G)
+    dofs = contact_dofs(mesh)
+    t = time.perf_counter()
+    lu = factorise(A)
+    out["factorisation"] = time.perf_counter() - t
+    t = time.perf_counter()
+    unit_load_responses(lu, B, dofs)
+    out["condensation"] = time.perf_counter() - t
+    clear_memo()
+    t = time.perf_counter()
+    result = rolling_cli.solve(case, use_cache=False)
+    out["full solve"] = time.perf_counter() - t
+    out["newton"] = result.time_solve
+    return mesh, out, result
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--elements", default="21,40,80,160,320")
+    args = parser.parse_args()
+    base = load_case(CASE)
+    print(f"# bench_bem: {platform.node()}, python {platform.python_version()}, rolling_cli {rolling_cli.__version__}")
+    print(
+        "| contact elements | BEM elements | BEM nodes | mesh [s] | assembly [s] | factorisation [s] | "
+        "condensation [s] | assembly + condensation [s] | Newton [s] | iterations | full solve [s] |"
+    )
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for n in (int(v) for v in args.elements.split(",")):
+        case = with_overrides(base, {"discretization.contact_elements": n})
+        runs = [stages(case) for _ in range(args.repeat)]
+        mesh, result = runs[-1][0], runs[-1][2]
+        med = {k: statistics.median(r[1][k] for r in runs) for k in runs[0][1]}
+        build = med["assembly"] + med["factorisation"] + med["condensation"]
+        print(
+            f"| {n} | {mesh.elements} | {mesh.size} | {med['mesh']:.3f} | {med['assembly']:.3f} | "
+            f"{med['factorisation']:.3f} | {med['condensation']:.3f} | {build:.3f} | {med['newton']:.3f} | "
+            f"{result.iterations} | {med['full solve']:.3f} |",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
