@@ -49,6 +49,13 @@ class Effects:
                 notes[key] = f"{notes[key]} ({'from disk cache' if where == 'cache' else where})"
         return dataclasses.replace(self, notes=notes)
 
+    def with_coupling_strength(self, strength: float) -> Effects:
+        """A copy whose coupling note carries the measured strength max|B_tn| / max|B_tt|."""
+        notes = dict(self.notes)
+        if notes.get("coupling", "").startswith("simulated"):
+            notes["coupling"] += f"; measured max|B_tn|/max|B_tt| = {strength:.3g}"
+        return dataclasses.replace(self, notes=notes)
+
     def line(self) -> str:
         """One line for the screen summary."""
         return "; ".join(f"{name}: {text}" for name, text in self.notes.items())

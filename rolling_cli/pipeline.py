@@ -19,10 +19,10 @@ import numpy as np
 from . import __version__, materials
 from . import effects as effects_mod
 from .case import Case, case_to_toml, load_case
-from .errors import ConvergenceError, GrossSlidingError, ZoneError
+from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
 from .influence.build import pair_compliance
-from .references import carter, hertz
+from .references import carter, hertz, thin_layer
 from .result import Result, node_states
 from .solver.control import Controls, solve_rolling
 from .solver.initial import carter_ratio_for_creep, cold_start
@@ -51,13 +51,14 @@ class Plan:
     effects: effects_mod.Effects
 
 
-def plan(case: Case, half_width: float | None = None, use_cache: bool = True) -> Plan:
+def plan(case: Case, half_width: float | None = None, use_cache: bool = True, check: bool = True) -> Plan:
     """Materials, contact scale a, contact grid and effects of a case.
 
     a is the Hertz half-width when the load is prescribed and both bodies are
     half-spaces; otherwise (an imposed overlap, or a layered body) it is
     measured by a coarse frictionless pre-solve (:func:`estimate_half_width`).
-    ``half_width`` overrides it.
+    ``half_width`` overrides it. ``check=False`` skips the mesh rules (coarse
+    pre-solves only).
     """
     a, b = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
@@ -76,7 +77,32 @@ def plan(case: Case, half_width: float | None = None, use_cache: bool = True) ->
     disc = case.discretization
     order = 2 if disc.element == "quadratic" else 0
     grid = ContactGrid(disc.zone * half_width, disc.contact_elements, order)
+    if check:
+        _check_layer_elements(case, grid)
     return Plan(e_star, r_star, beta, half_width, p0, load, grid, effects_mod.decide(case))
+
+
+#: Contact elements on a layer may be at most this fraction of its thickness
+#: (nearly singular integration across the layer stays accurate, and the
+#: layer's stress gradients, on the scale b, are resolved).
+LAYER_ELEMENT_FRACTION = 0.5
+
+
+def _check_layer_elements(case: Case, grid: ContactGrid) -> None:
+    for label in ("A", "B"):
+        body = getattr(case.bodies, label)
+        if body.kind != "layered":
+            continue
+        limit = LAYER_ELEMENT_FRACTION * float(body.layer_thickness)
+        if grid.element_length > limit * (1.0 + 1e-9):
+            needed = int(np.ceil(2.0 * grid.half_width / limit))
+            raise CaseError(
+                f"discretization.contact_elements = {grid.elements}: elements of {grid.element_length:.4g} over "
+                f"the potential zone exceed half the layer thickness of bodies.{label} ({limit:.4g}); "
+                f"allowed: >= {needed} elements (or a smaller discretization.zone)",
+                file=case.source,
+                key="discretization.contact_elements",
+            )
 
 
 def _layered(case: Case) -> bool:
@@ -91,15 +117,16 @@ PRESOLVE_ZONE = 2.5
 def estimate_half_width(case: Case, e_star: float, r_star: float, use_cache: bool = True) -> float:
     """Contact half-width a [length] from coarse frictionless normal solves of the case's own model.
 
-    First guess: Hertz a for a prescribed load, else the geometric interference
-    half-width sqrt(2 R* overlap). Coarse solves (the model's geometry scaled
-    by the current guess) refine it until it moves by less than two coarse
-    node spacings; the zone doubles if the contact reaches its edge.
+    The first guess is :func:`first_guess`. Coarse solves (the model's geometry
+    scaled by the current guess; on a layer, elements of at most
+    :data:`PRESOLVE_LAYER_ELEMENT` thicknesses) refine it until it moves by less
+    than two coarse node spacings; the zone doubles if the contact reaches its
+    edge.
     """
-    if case.normal.load is not None:
-        guess = hertz.half_width(float(case.normal.load), r_star, e_star)
-    else:
-        guess = float(np.sqrt(2.0 * r_star * case.normal.overlap))
+    guess = first_guess(case, e_star, r_star)
+    thinnest = min(
+        (float(b.layer_thickness) for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"), default=math.inf
+    )
     zone = PRESOLVE_ZONE
     coarse = dataclasses.replace(
         case,
@@ -111,10 +138,13 @@ def estimate_half_width(case: Case, e_star: float, r_star: float, use_cache: boo
         trial = dataclasses.replace(
             coarse,
             discretization=dataclasses.replace(
-                case.discretization, contact_elements=PRESOLVE_ELEMENTS, zone=zone, slip_derivative="fd"
+                case.discretization,
+                contact_elements=_presolve_elements(zone * guess, thinnest),
+                zone=zone,
+                slip_derivative="fd",
             ),
         )
-        the_plan = plan(trial, half_width=guess)
+        the_plan = plan(trial, half_width=guess, check=False)
         system = build_contact_system(trial, the_plan, use_cache)
         start = initial_state(trial, the_plan, system)
         outcome = solve_rolling(
@@ -130,6 +160,40 @@ def estimate_half_width(case: Case, e_star: float, r_star: float, use_cache: boo
             return float(measured)
         guess, zone = float(measured), 1.6
     return float(guess)
+
+
+#: In the pre-solve, layer elements may be this many thicknesses long.
+PRESOLVE_LAYER_ELEMENT = 2.0
+
+
+def _presolve_elements(zone_half_width: float, thickness: float) -> int:
+    needed = int(np.ceil(2.0 * zone_half_width / (PRESOLVE_LAYER_ELEMENT * thickness))) if thickness < math.inf else 0
+    return int(min(max(PRESOLVE_ELEMENTS, needed), 400))
+
+
+def first_guess(case: Case, e_star: float, r_star: float) -> float:
+    """First estimate of a [length] before any solve.
+
+    Half-spaces: Hertz a (load) or the interference half-width sqrt(2 R* d)
+    (overlap). A layer: the smaller of Hertz and the thin-layer limits of
+    :mod:`rolling_cli.references.thin_layer` for a load (a thin layer is much
+    stiffer than a half-space of its material); sqrt(6 R* d) for an overlap on
+    a nearly incompressible layer, which bulges beside the contact.
+    """
+    layers = [b for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"]
+    if case.normal.load is not None:
+        load = float(case.normal.load)
+        guess = hertz.half_width(load, r_star, e_star)
+        for body in layers:
+            b, young, nu = float(body.layer_thickness), float(body.young), float(body.poisson)
+            thin = max(
+                thin_layer.compressible_half_width(load, r_star, young, nu, b),
+                thin_layer.incompressible_half_width(load, r_star, young, b),
+            )
+            guess = min(guess, thin)
+        return guess
+    incompressible = any(float(body.poisson) >= 0.45 for body in layers)
+    return thin_layer.half_width_for_overlap(float(case.normal.overlap), r_star, incompressible)
 
 
 def check_gross_sliding(case: Case) -> None:
@@ -269,6 +333,9 @@ def solve(
     if system is None:
         system, origin = build_contact_system_with_origin(case, the_plan, use_cache)
         the_plan = dataclasses.replace(the_plan, effects=the_plan.effects.with_influence_origin(origin))
+    strength = coupling_strength(system)
+    if strength is not None:
+        the_plan = dataclasses.replace(the_plan, effects=the_plan.effects.with_coupling_strength(strength))
     t1 = time.perf_counter()
     coarse_history: list[dict] = []
     warm = start is not None and start.p_n.shape == system.x.shape
@@ -308,6 +375,20 @@ def solve(
     if converged:
         check_zone(result, system)
     return result
+
+
+def coupling_strength(system: ContactSystem) -> float | None:
+    """Measured normal-to-tangential coupling: max|B_tn| / max|B_tt| over the slip rows [-].
+
+    The tangential strain rate per unit nodal pressure against that per unit
+    tangential traction; 0 for an exactly decoupled pair, None when the
+    coupling blocks are not simulated.
+    """
+    if system.B_tn is None:
+        return None
+    rows = np.ones(system.size, dtype=bool)
+    rows[system.gauge] = False
+    return float(np.abs(system.B_tn[rows]).max() / np.abs(system.B_tt[rows]).max())
 
 
 def check_zone(result: Result, system: ContactSystem) -> None:
@@ -375,6 +456,7 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "influence": case.discretization.influence,
         "contact_elements": the_plan.grid.elements,
         "effects": the_plan.effects.to_json(),
+        "coupling_strength": coupling_strength(system) if system.B_tn is not None else 0.0,
         "effects_line": the_plan.effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,
