@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -129,6 +130,131 @@ def check(case_file):
         click.echo(case_to_toml(case, derived), nl=False)
 
     _run(action)
+
+
+@main.command()
+@click.argument("result_file", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Figure file: .png, .pdf or .svg.")
+@click.option("--show", is_flag=True, help="Open the figure in a window.")
+def plot(result_file, output, show):
+    """Plot a result or sweep file (default output: the file's name with .png)."""
+
+    def action():
+        from .plot import FORMATS, plot_file
+
+        if not os.path.exists(result_file):
+            raise CaseError("file not found; allowed: a result or sweep file written by rollc", file=result_file)
+        out = output or (None if show else os.path.splitext(result_file)[0] + ".png")
+        if out and os.path.splitext(out)[1].lower() not in FORMATS:
+            raise CaseError(f"-o {out}: unsupported figure format; allowed: {', '.join(FORMATS)}")
+        try:
+            plot_file(result_file, out, show)
+        except (OSError, KeyError, ValueError) as err:
+            raise CaseError(f"not a readable rolling_cli result or sweep file ({err})", file=result_file) from None
+        if out:
+            click.echo(f"written {out}")
+
+    _run(action)
+
+
+class Progress:
+    """A one-line progress bar on stderr; silent when stderr is not a terminal."""
+
+    def __init__(self, stream=None) -> None:
+        self.stream = stream or sys.stderr
+        self.active = self.stream.isatty()
+        self.start = time.perf_counter()
+
+    def __call__(self, done: int, total: int, failed: int) -> None:
+        if not self.active:
+            return
+        width = 30
+        filled = int(width * done / max(total, 1))
+        bar = "#" * filled + "-" * (width - filled)
+        extra = f", {failed} failed" if failed else ""
+        self.stream.write(f"\r  sweep [{bar}] {done}/{total}{extra}, {time.perf_counter() - self.start:.1f} s")
+        self.stream.flush()
+        if done >= total:
+            self.stream.write("\n")
+
+
+@main.command()
+@click.argument("case_file", type=click.Path(dir_okay=False))
+@click.option(
+    "--set",
+    "settings",
+    multiple=True,
+    metavar="KEY=VALUES",
+    help="A dotted case key and its values: a comma list or start:stop:count. Repeat for more keys.",
+)
+@click.option("--zip", "zipped", is_flag=True, help="Pair the --set lists instead of taking their product.")
+@click.option(
+    "--curve",
+    type=click.Choice(["load", "creep"]),
+    help="Creep-force curve: sweep Q/(mu P) over -0.99..0.99, or the creepage over 1.5x full slip.",
+)
+@click.option("--points", type=click.IntRange(2, 10000), default=41, show_default=True, help="Points of --curve.")
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Sweep file (.h5).")
+@click.option("--workers", type=click.IntRange(1, 256), default=None, help="Worker processes [default: one per core].")
+@click.option("--resume", is_flag=True, help="Skip the cases already in the output file.")
+@click.option("--no-warm-start", is_flag=True, help="Start every case cold (for comparison).")
+@click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
+@click.option("--plot", "make_plot", is_flag=True, help="Also write a PNG figure beside the sweep file.")
+@click.pass_context
+def sweep(ctx, case_file, settings, zipped, curve, points, output, workers, resume, no_warm_start, no_cache, make_plot):
+    """Solve CASE_FILE for every combination of swept values (or its [sweep] table)."""
+
+    def action():
+        from . import sweep as sweeps
+        from .case import load_case
+        from .case.io import read_toml
+
+        base = load_case(case_file)
+        if curve:
+            spec = sweeps.curve_spec(base, curve, points)
+        elif settings:
+            spec = sweeps.spec_from_options(list(settings), zipped)
+        else:
+            table = read_toml(case_file).get("sweep")
+            if not table:
+                raise CaseError(
+                    "no sweep given; allowed: --set KEY=VALUES, --curve, or a [sweep] table in the case", file=case_file
+                )
+            spec = sweeps.spec_from_table(table, case_file)
+        out = output or Path(case_file).with_suffix("").name + "_sweep.h5"
+        count = workers or sweeps.default_workers()
+        signal.signal(signal.SIGTERM, _terminate)
+        try:
+            report = sweeps.run(
+                base,
+                spec,
+                out,
+                workers=count,
+                resume=resume,
+                warm=not no_warm_start,
+                use_cache=not no_cache,
+                progress=None if ctx.obj["quiet"] else Progress(),
+            )
+        except KeyboardInterrupt:
+            _fail(f"interrupted: the cases finished so far are in {out} (continue with --resume)", 130)
+        if make_plot:
+            from .plot import plot_file
+
+            plot_file(out, os.path.splitext(out)[0] + ".png")
+        if not ctx.obj["quiet"]:
+            click.echo(sweeps.summary_table(report, spec.keys))
+            click.echo(
+                f"  {len(report.records)} cases solved ({report.skipped} already in the file), "
+                f"{len(report.failed)} failed, {report.seconds:.2f} s with {count} worker(s); written {out}"
+            )
+        if report.failed:
+            _fail(f"{len(report.failed)} of {len(report.records)} cases failed; their reasons are in {out}", 1)
+
+    _run(action)
+
+
+def _terminate(signum, frame):  # pragma: no cover - exercised by the kill test in a subprocess
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":  # pragma: no cover

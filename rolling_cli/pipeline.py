@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import datetime
+import json
 import logging
 import math
 import time
@@ -18,7 +19,7 @@ import numpy as np
 
 from . import __version__, materials
 from . import effects as effects_mod
-from .case import Case, case_to_toml, load_case
+from .case import Case, case_to_dict, case_to_toml, load_case
 from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
 from .influence.build import pair_compliance
@@ -114,7 +115,23 @@ PRESOLVE_ELEMENTS = 16
 PRESOLVE_ZONE = 2.5
 
 
+_estimates: dict[str, float] = {}
+
+
 def estimate_half_width(case: Case, e_star: float, r_star: float, use_cache: bool = True) -> float:
+    """Memoised :func:`measure_half_width` (sweeps vary friction and loads around one model)."""
+    data = case_to_dict(case)
+    key = json.dumps(
+        {k: data.get(k) for k in ("bodies", "normal", "discretization", "solver")}, sort_keys=True, default=str
+    )
+    if key not in _estimates:
+        if len(_estimates) > 64:
+            _estimates.clear()
+        _estimates[key] = measure_half_width(case, e_star, r_star, use_cache)
+    return _estimates[key]
+
+
+def measure_half_width(case: Case, e_star: float, r_star: float, use_cache: bool = True) -> float:
     """Contact half-width a [length] from coarse frictionless normal solves of the case's own model.
 
     The first guess is :func:`first_guess`. Coarse solves (the model's geometry

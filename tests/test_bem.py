@@ -2,8 +2,8 @@
 
 import numpy as np
 import pytest
-from helpers import case_dict, dissimilar, solve
 
+from helpers import case_dict, dissimilar, solve
 from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import bem, halfplane
 from rolling_cli.influence.bem import assembly, condense

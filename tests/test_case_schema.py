@@ -3,8 +3,8 @@
 import math
 
 import pytest
-from helpers import CARTER, case_dict
 
+from helpers import CARTER, case_dict
 from rolling_cli.case import case_to_dict, load_case, with_overrides
 from rolling_cli.errors import CaseError
 

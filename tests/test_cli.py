@@ -7,10 +7,10 @@ import h5py
 import numpy as np
 import tomli_w
 from click.testing import CliRunner
-from helpers import CARTER, case_dict
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from helpers import CARTER, case_dict
 from rolling_cli import __version__
 from rolling_cli.cli import main
 

@@ -4,6 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from helpers import CARTER, assert_contact_laws, assert_force_balance, case_dict, dissimilar, solve
 
 REFERENCE = Path(__file__).resolve().parents[2] / "shared" / "reference"

@@ -4,8 +4,8 @@ import tomllib
 
 import h5py
 import numpy as np
-from helpers import CARTER, case_dict, solve
 
+from helpers import CARTER, case_dict, solve
 from rolling_cli.io_hdf5 import read_result, write_result
 
 ROOT_ATTRS = (

@@ -17,8 +17,8 @@ node spacing Delta = a/200):
 
 import numpy as np
 import pytest
-from helpers import assert_contact_laws, assert_force_balance, case_dict, solve
 
+from helpers import assert_contact_laws, assert_force_balance, case_dict, solve
 from rolling_cli.references import carter, hertz
 
 

@@ -4,8 +4,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import assert_contact_laws, assert_force_balance, case_dict, solve
 
+from helpers import assert_contact_laws, assert_force_balance, case_dict, solve
 from rolling_cli.case import load_case, with_overrides
 from rolling_cli.errors import CaseError
 from rolling_cli.pipeline import solve as solve_case

@@ -15,17 +15,12 @@ from . import schema
 from .validate import build, check_consistency
 
 
-def load_case(source: str | os.PathLike | dict) -> schema.Case:
-    """Validate a case file (path) or an already-parsed TOML dict into a :class:`Case`.
-
-    Raises :class:`~rolling_cli.errors.CaseError` with a one-line message.
-    """
-    if isinstance(source, dict):
-        return case_from_dict(source, None)
-    path = os.fspath(source)
+def read_toml(path: str | os.PathLike) -> dict:
+    """The parsed TOML document of a case file (errors as in :func:`load_case`)."""
+    path = os.fspath(path)
     try:
         with open(path, "rb") as handle:
-            data = tomllib.load(handle)
+            return tomllib.load(handle)
     except FileNotFoundError:
         raise CaseError("file not found; allowed: a path to a TOML case file", file=path) from None
     except IsADirectoryError:
@@ -34,7 +29,17 @@ def load_case(source: str | os.PathLike | dict) -> schema.Case:
         raise CaseError(f"invalid TOML ({err}); allowed: TOML 1.0 syntax", file=path) from None
     except UnicodeDecodeError:
         raise CaseError("not UTF-8 text; allowed: a TOML case file", file=path) from None
-    return case_from_dict(data, path)
+
+
+def load_case(source: str | os.PathLike | dict) -> schema.Case:
+    """Validate a case file (path) or an already-parsed TOML dict into a :class:`Case`.
+
+    Raises :class:`~rolling_cli.errors.CaseError` with a one-line message.
+    """
+    if isinstance(source, dict):
+        return case_from_dict(source, None)
+    path = os.fspath(source)
+    return case_from_dict(read_toml(path), path)
 
 
 def case_from_dict(data: dict, file: str | None) -> schema.Case:

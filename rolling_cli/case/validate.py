@@ -222,5 +222,22 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
         raise _fail(file, "tangential.q_over_mu_p", value, "undefined for friction.mu = 0", "tangential.load or creep")
 
 
+def field_metadata(dotted: str) -> dict:
+    """The schema metadata of a dotted case key (``friction.mu``, ``bodies.A.young``); {} if unknown."""
+    cls: type = schema.Case
+    parts = dotted.split(".")
+    for depth, part in enumerate(parts):
+        fields = {f.name: f for f in dataclasses.fields(cls)}
+        if part not in fields:
+            return {}
+        meta = dict(fields[part].metadata)
+        if depth == len(parts) - 1:
+            return meta
+        if meta.get("kind") != "table":
+            return {}
+        cls = _table_type(cls, part)
+    return {}
+
+
 def _meta(cls: type, name: str) -> dict:
     return next(f.metadata for f in dataclasses.fields(cls) if f.name == name)

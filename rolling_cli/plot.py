@@ -1,0 +1,180 @@
+"""Figures in the style of the paper, from result and sweep files.
+
+* One result: -p_n/p0 and p_t/(mu p0) against x/a, the slip velocity on a
+  second axis, the node states as shaded bands (adhesion, slip; separation is
+  left blank), and the Hertz/Carter references when the file has them. x is
+  centred on the contact and scaled by its half-width a; p0 is the peak
+  pressure (the curves of a tyred cylinder are centred as the paper does).
+* A sweep: the traction curves of every case, labelled by the swept values
+  (the paper's Fig. 4 and 8); when a tangential quantity is swept, also the
+  creep-force curve Q/(mu P) against the creepage.
+
+Figures are built with matplotlib's object API on the Agg canvas (no screen
+needed); :func:`plot_file` returns the Figure so tests can inspect it.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+
+import h5py
+import matplotlib
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from .io_hdf5 import read_group
+from .result import Result
+
+COLOURS = {"adhesion": "#cfe3f5", "slip": "#fbe0c4"}
+TANGENTIAL_KEYS = ("tangential.q_over_mu_p", "tangential.q_over_p", "tangential.load", "tangential.creep")
+
+
+def _scales(result: Result) -> tuple[float, float, float]:
+    """Centre, a [length] and p0 [stress] used to normalise the curves."""
+    a = result.attributes.get("contact_half_width", np.nan)
+    centre = result.attributes.get("contact_centre", 0.0)
+    if not np.isfinite(a) or a <= 0:
+        a, centre = float(result.attributes.get("hertz_a", 1.0)), 0.0
+    p0 = float(np.max(-result.p_n)) if np.any(result.p_n < 0) else 1.0
+    return float(centre), float(a), p0
+
+
+def _bands(ax, result: Result, centre: float, a: float) -> None:
+    for name, start, end in result.zones():
+        if name in COLOURS:
+            ax.axvspan((start - centre) / a, (end - centre) / a, color=COLOURS[name], alpha=0.8, lw=0, zorder=0)
+
+
+def draw_result(ax, result: Result, label: str | None = None, bands: bool = True, slip_axis=None):
+    """Draw one result on ``ax``; returns the slip axis used (or None)."""
+    centre, a, p0 = _scales(result)
+    mu = float(result.attributes.get("mu", 0.0)) or 1.0
+    xi = (result.x - centre) / a
+    if bands:
+        _bands(ax, result, centre, a)
+    suffix = f" ({label})" if label else ""
+    ax.plot(xi, -result.p_n / p0, color="0.35", lw=1.2, label=r"$-p_n/p_0$" + suffix)
+    line = ax.plot(xi, result.p_t / (mu * p0), lw=1.8, label=r"$p_t/(\mu p_0)$" + suffix)[0]
+    if result.reference:
+        if "hertz_pressure" in result.reference:
+            ax.plot(xi, result.reference["hertz_pressure"] / p0, "k:", lw=1, label="Hertz")
+        if "carter_traction" in result.reference:
+            ax.plot(xi, result.reference["carter_traction"] / (mu * p0), "k--", lw=1, label="Carter")
+    if slip_axis is not None:
+        contact = result.state > 0
+        slip = np.where(result.state == 2, result.s_t, np.nan)
+        slip_axis.plot(xi[contact], slip[contact], color=line.get_color(), ls="-.", lw=1, label=r"$s_t$" + suffix)
+    return slip_axis
+
+
+def _figure(show: bool, **kwargs) -> Figure:
+    """A Figure on the Agg canvas, or through pyplot (interactive backend) when it is to be shown."""
+    if show:
+        import matplotlib.pyplot as plt
+
+        return plt.figure(**kwargs)
+    fig = Figure(**kwargs)
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def result_figure(result: Result, show: bool = False) -> Figure:
+    """The single-result figure."""
+    fig = _figure(show, figsize=(8, 5), layout="constrained")
+    ax = fig.add_subplot()
+    slip_axis = ax.twinx()
+    draw_result(ax, result, slip_axis=slip_axis)
+    ax.set_xlabel(r"$(x - x_c)/a$ [-]")
+    ax.set_ylabel(r"$-p_n/p_0$, $p_t/(\mu p_0)$ [-]")
+    slip_axis.set_ylabel(r"slip velocity $s_t = \dot{s}/|V|$ [-] (slip zones)")
+    attrs = result.attributes
+    ax.set_title(
+        f"{attrs.get('title') or 'rolling_cli result'}\n"
+        f"Q/(mu P) = {attrs.get('q_over_mu_p', np.nan):.3f}, creepage = {attrs.get('creep', np.nan):.3e}, "
+        f"a = {_scales(result)[1]:.4g} {attrs.get('unit_length', '')}",
+        fontsize=9,
+    )
+    handles, labels = ax.get_legend_handles_labels()
+    h2, l2 = slip_axis.get_legend_handles_labels()
+    ax.legend(handles + h2, labels + l2, fontsize=8, loc="upper left")
+    ax.grid(True, alpha=0.3)
+    return fig
+
+
+def sweep_figure(path: str, show: bool = False) -> Figure:
+    """The sweep figure: every case's tractions, and the creep-force curve when a tangential key is swept."""
+    with h5py.File(path, "r") as handle:
+        keys = json.loads(handle.attrs["sweep_keys"])
+        results, labels = [], []
+        for name in sorted(handle["cases"]):
+            group = handle["cases"][name]
+            if not bool(group.attrs.get("converged", False)) or "x" not in group:
+                continue
+            results.append(read_group(group))
+            labels.append(", ".join(f"{k.split('.')[-1]} = {_fmt(group.attrs[k])}" for k in keys))
+        summary = {name: handle["summary"][name][()] for name in handle["summary"]}
+    curve = any(k in TANGENTIAL_KEYS for k in keys)
+    fig = _figure(show, figsize=(12 if curve else 8, 5), layout="constrained")
+    ax = fig.add_subplot(1, 2 if curve else 1, 1)
+    step = int(np.ceil(len(results) / 12)) if len(results) > 12 else 1  # at most 12 curves stay readable
+    shown = list(zip(results, labels, strict=True))[::step]
+    colours = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.9, max(len(shown), 1)))
+    for (result, label), colour in zip(shown, colours, strict=False):
+        centre, a, p0 = _scales(result)
+        mu = float(result.attributes.get("mu", 0.0)) or 1.0
+        ax.plot((result.x - centre) / a, result.p_t / (mu * p0), lw=1.4, color=colour, label=label)
+    ax.set_xlabel(r"$(x - x_c)/a$ [-]")
+    ax.set_ylabel(r"$p_t/(\mu p_0)$ [-]")
+    ax.set_title(f"{len(results)} cases, swept: {', '.join(keys)}", fontsize=9)
+    if shown:
+        ax.legend(fontsize=7)
+    ax.grid(True, alpha=0.3)
+    if curve:
+        ax2 = fig.add_subplot(1, 2, 2)
+        ok = summary["converged"].astype(bool)
+        order = np.argsort(summary["creep"][ok])
+        ax2.plot(summary["creep"][ok][order], summary["q_over_mu_p"][ok][order], "o-", ms=3)
+        ax2.set_xlabel(r"creepage $\xi = (V_A - V_B)/|V|$ [-]")
+        ax2.set_ylabel(r"$Q/(\mu P)$ [-]")
+        ax2.set_title("creep-force curve", fontsize=9)
+        ax2.axhline(0, color="0.6", lw=0.8)
+        ax2.axvline(0, color="0.6", lw=0.8)
+        ax2.grid(True, alpha=0.3)
+    return fig
+
+
+def _fmt(value) -> str:
+    if isinstance(value, bytes):
+        return value.decode()
+    if isinstance(value, (float, np.floating)):
+        return f"{value:.4g}"
+    return str(value)
+
+
+def is_sweep(path: str) -> bool:
+    with h5py.File(path, "r") as handle:
+        fmt = handle.attrs.get("format")
+    return (fmt.decode() if isinstance(fmt, bytes) else fmt) == "rolling_cli.sweep"
+
+
+def plot_file(path: str, output: str | None = None, show: bool = False) -> Figure:
+    """Plot a result or sweep file; write ``output`` (.png, .pdf or .svg) and/or show it."""
+    if output and os.path.splitext(output)[1].lower() not in FORMATS:
+        raise ValueError(f"{output}: unsupported figure format; allowed: {', '.join(FORMATS)}")
+    if is_sweep(path):
+        fig = sweep_figure(path, show)
+    else:
+        with h5py.File(path, "r") as handle:
+            fig = result_figure(read_group(handle), show)
+    if output:
+        fig.savefig(output, dpi=150)
+    if show:
+        import matplotlib.pyplot as plt
+
+        plt.show()
+    return fig
+
+
+FORMATS = (".png", ".pdf", ".svg")

@@ -1,0 +1,83 @@
+"""rollc plot: figures checked through matplotlib's objects, not pixels."""
+
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from helpers import case_dict, dissimilar, solve
+from rolling_cli import sweep
+from rolling_cli.case import load_case
+from rolling_cli.cli import main
+from rolling_cli.io_hdf5 import write_result
+from rolling_cli.plot import plot_file
+
+SMALL = case_dict(**{"discretization.contact_elements": 40})
+
+
+def _labels(ax):
+    return ax.get_xlabel() + " " + ax.get_ylabel()
+
+
+def test_single_result_figure(tmp_path):
+    path = tmp_path / "r.h5"
+    write_result(solve(SMALL), path)
+    png = tmp_path / "r.png"
+    fig = plot_file(str(path), str(png))
+    assert png.stat().st_size > 10_000
+    main_ax, slip_ax = fig.axes
+    assert "x" in main_ax.get_xlabel() and "/a" in main_ax.get_xlabel()
+    assert r"\mu p_0" in main_ax.get_ylabel() and "p_n" in main_ax.get_ylabel()
+    assert "slip velocity" in slip_ax.get_ylabel()
+    labels = [line.get_label() for line in main_ax.get_lines()]
+    assert any("p_t" in s for s in labels) and any("p_n" in s for s in labels)
+    assert "Hertz" in labels and "Carter" in labels  # the similar case carries its references
+    assert len(slip_ax.get_lines()) == 1
+    assert len(main_ax.patches) >= 2  # shaded adhesion and slip bands
+
+
+def test_dissimilar_result_has_no_reference_lines(tmp_path):
+    path = tmp_path / "d.h5"
+    write_result(solve(dissimilar(**{"discretization.contact_elements": 40})), path)
+    fig = plot_file(str(path))
+    labels = [line.get_label() for line in fig.axes[0].get_lines()]
+    assert "Carter" not in labels and len(labels) == 2
+
+
+def test_sweep_figures(tmp_path):
+    base = load_case(SMALL)
+    mu_file = str(tmp_path / "mu.h5")
+    sweep.run(base, sweep.spec_from_options(["friction.mu=0.1,0.2,0.3"], False), mu_file)
+    fig = plot_file(mu_file, str(tmp_path / "mu.svg"))
+    assert len(fig.axes) == 1 and len(fig.axes[0].get_lines()) == 3
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == ["mu = 0.1", "mu = 0.2", "mu = 0.3"]
+    curve_file = str(tmp_path / "curve.h5")
+    sweep.run(base, sweep.curve_spec(base, "load", 5), curve_file)
+    fig = plot_file(curve_file, str(tmp_path / "curve.pdf"))
+    assert len(fig.axes) == 2
+    assert "creepage" in fig.axes[1].get_xlabel() and "Q/(\\mu P)" in fig.axes[1].get_ylabel()
+    assert len(fig.axes[1].get_lines()[0].get_xdata()) == 5
+    assert (tmp_path / "curve.pdf").stat().st_size > 1000
+
+
+def test_plot_cli_and_errors(tmp_path):
+    path = tmp_path / "r.h5"
+    write_result(solve(SMALL), path)
+    runner = CliRunner()
+    ok = runner.invoke(main, ["plot", str(path)])
+    assert ok.exit_code == 0 and (tmp_path / "r.png").exists()
+    bad_ext = runner.invoke(main, ["plot", str(path), "-o", str(tmp_path / "r.jpg")])
+    assert bad_ext.exit_code == 2 and "unsupported figure format" in bad_ext.output
+    junk = tmp_path / "junk.h5"
+    junk.write_text("not hdf5")
+    bad = runner.invoke(main, ["plot", str(junk)])
+    assert bad.exit_code == 2 and "not a readable" in bad.output and "Traceback" not in bad.output
+
+
+@pytest.mark.parametrize("name", ["paper_fig3_q051", "tyred_fig11_q41"])
+def test_solve_plot_writes_figure_beside_result(tmp_path, name):
+    out = tmp_path / f"{name}.h5"
+    case = Path(__file__).resolve().parents[1] / "cases" / f"{name}.toml"
+    result = CliRunner().invoke(main, ["-q", "solve", str(case), "-o", str(out), "--plot"])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / f"{name}.png").stat().st_size > 10_000
