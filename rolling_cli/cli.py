@@ -71,8 +71,9 @@ def main(ctx: click.Context, verbose: int, quiet: int) -> None:
 @click.option("--keep-failed", is_flag=True, help="Write the last iterate of a failed solve, marked converged = false.")
 @click.option("--plot", "make_plot", is_flag=True, help="Also write a PNG figure beside the result.")
 @click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
+@click.option("--error-estimate", is_flag=True, help="Re-solve on half the contact elements and report the difference.")
 @click.pass_context
-def solve(ctx, case_file, output, keep_failed, make_plot, no_cache):
+def solve(ctx, case_file, output, keep_failed, make_plot, no_cache, error_estimate):
     """Solve CASE_FILE and write the result to HDF5."""
 
     def action():
@@ -85,6 +86,10 @@ def solve(ctx, case_file, output, keep_failed, make_plot, no_cache):
         out = output or default_output(case_file, case.output.file)
         start = time.perf_counter()
         result = run_solve(case, keep_failed=keep_failed, use_cache=not no_cache)
+        if error_estimate and result.attributes.get("converged"):
+            from .estimate import add_error_estimate
+
+            add_error_estimate(case, result, use_cache=not no_cache)
         result.attributes["time_total"] = time.perf_counter() - start
         write_result(result, out)
         if make_plot:

@@ -1,8 +1,10 @@
 """One solve, stage by stage: case -> plan -> influence -> system -> Newton -> result.
 
 :func:`solve` is the public entry point; the stages are plain functions so that
-sweeps can reuse the expensive ones (:func:`build_contact_system` is memoised
-on everything it depends on).
+sweeps can reuse the expensive ones: a prebuilt contact system and a warm
+start can be passed in, influences are memoised (and BEM ones cached on disk)
+by :mod:`rolling_cli.influence.build`, and the pre-solve estimate of a by
+:func:`estimate_half_width`.
 """
 
 from __future__ import annotations
@@ -39,7 +41,8 @@ class Plan:
 
     ``modulus`` E* [stress], ``radius`` R* [length], ``beta_seed`` [-],
     ``half_width`` Hertz a [length] (estimated from the overlap when only the
-    overlap is given), ``p0`` [stress], ``load`` P or its estimate [force/length].
+    overlap is given), ``p0`` [stress], ``load`` P or its estimate [force/length],
+    ``coupling`` the measured coupling strength once the system is built [-].
     """
 
     modulus: float
@@ -50,6 +53,7 @@ class Plan:
     load: float
     grid: ContactGrid
     effects: effects_mod.Effects
+    coupling: float = 0.0
 
 
 def plan(case: Case, half_width: float | None = None, use_cache: bool = True, check: bool = True) -> Plan:
@@ -284,8 +288,10 @@ def initial_state(case: Case, the_plan: Plan, system: ContactSystem) -> State:
     return cold_start(system, the_plan.half_width, the_plan.load, case.friction.mu, ratio, creep, case.normal.overlap)
 
 
-#: Grid sequencing: a half-plane solve with at least this many elements starts
-#: from the solution on a grid with a quarter of the elements (recursively).
+#: Grid sequencing: a coupled half-plane solve with at least this many elements
+#: starts from the solution on a grid with a quarter of the elements
+#: (recursively). Decoupled solves start well from Hertz and Carter already:
+#: sequencing them costs more than it saves (benchmarks/RESULTS.md).
 SEQUENCING_ELEMENTS = 240
 
 
@@ -298,7 +304,11 @@ def _sequenced_start(case: Case, the_plan: Plan, system: ContactSystem) -> tuple
     creepage carry over unchanged (same zone, same log reference length).
     """
     disc = case.discretization
-    if disc.influence != "half-plane" or disc.contact_elements < SEQUENCING_ELEMENTS:
+    if (
+        disc.influence != "half-plane"
+        or disc.contact_elements < SEQUENCING_ELEMENTS
+        or the_plan.effects.strategy != "coupled"
+    ):
         return initial_state(case, the_plan, system), []
     coarse_case = dataclasses.replace(
         case, discretization=dataclasses.replace(disc, contact_elements=disc.contact_elements // 4)
@@ -351,6 +361,7 @@ def solve(
         system, origin = build_contact_system_with_origin(case, the_plan, use_cache)
         the_plan = dataclasses.replace(the_plan, effects=the_plan.effects.with_influence_origin(origin))
     strength = coupling_strength(system)
+    the_plan = dataclasses.replace(the_plan, coupling=strength or 0.0)
     if strength is not None:
         the_plan = dataclasses.replace(the_plan, effects=the_plan.effects.with_coupling_strength(strength))
     t1 = time.perf_counter()
@@ -473,7 +484,7 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "influence": case.discretization.influence,
         "contact_elements": the_plan.grid.elements,
         "effects": the_plan.effects.to_json(),
-        "coupling_strength": coupling_strength(system) if system.B_tn is not None else 0.0,
+        "coupling_strength": the_plan.coupling,
         "effects_line": the_plan.effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,

@@ -54,10 +54,14 @@ def summary(result: Result, output: str | None = None) -> str:
         if name == "separation":
             continue
         lines.append(f"  {name:<14} x = {start:.5g} .. {end:.5g} {length}")
-    if "error_estimate" in attrs:
+    if attrs.get("error_estimate_note"):
+        lines.append(f"  error estimate {attrs['error_estimate_note']}")
+    elif "error_estimate" in attrs:
         lines.append(
-            f"  error estimate max |p_t - p_t(half mesh)| / (mu p0) = {_fmt(attrs['error_estimate'], 3)}, "
-            f"creepage {_fmt(attrs.get('error_estimate_creep'), 3)} (relative)"
+            f"  error estimate against {attrs.get('error_estimate_elements')} elements: "
+            f"traction max {_fmt(attrs['error_estimate'], 3)}, RMS {_fmt(attrs.get('error_estimate_rms'), 3)} "
+            f"(of mu p0); creepage {_fmt(attrs.get('error_estimate_creep'), 3)}, load "
+            f"{_fmt(attrs.get('error_estimate_load'), 3)} (relative)"
         )
     lines.append(
         f"  time           influence {attrs.get('time_influence', 0.0):.3f} s, "

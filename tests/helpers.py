@@ -53,6 +53,24 @@ def case_dict(base: dict | None = None, **dotted) -> dict:
     return data
 
 
+def write_case(directory, data: dict, name: str = "case.toml"):
+    """Write a case dict as a TOML file in ``directory``; returns its path."""
+    import tomli_w
+
+    path = directory / name
+    path.write_text(tomli_w.dumps(data))
+    return path
+
+
+def run_cli(*args):
+    """Invoke ``rollc`` in-process with string arguments; returns click's Result."""
+    from click.testing import CliRunner
+
+    from rolling_cli.cli import main
+
+    return CliRunner().invoke(main, [str(a) for a in args])
+
+
 def dissimilar(**dotted) -> dict:
     """Aluminium (A) on steel (B), beta_seed = 0.288, P = 1000 N/mm."""
     base = case_dict(CARTER, **{"normal.load": 1000.0})

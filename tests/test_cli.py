@@ -5,24 +5,14 @@ import os
 
 import h5py
 import numpy as np
-import tomli_w
-from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from helpers import CARTER, case_dict
+from helpers import CARTER, case_dict, run_cli, write_case
 from rolling_cli import __version__
-from rolling_cli.cli import main
 
-
-def _write(tmp_path, data, name="case.toml"):
-    path = tmp_path / name
-    path.write_text(tomli_w.dumps(data))
-    return path
-
-
-def _run(*args):
-    return CliRunner().invoke(main, [str(a) for a in args])
+_write = write_case
+_run = run_cli
 
 
 def test_version():
@@ -139,3 +129,37 @@ def test_plain_garbage_file_exits_2(tmp_path):
     path.write_bytes(np.random.default_rng(0).bytes(200))
     result = _run("solve", path)
     assert result.exit_code == 2 and "case.toml" in result.output
+
+
+def test_error_estimate_is_reported_and_stored(tmp_path):
+    """--error-estimate re-solves on half the elements: the difference is an upper bound on
+    the traction error here (benchmarks/results/accuracy_cost.md: 2.5-5.6x for Carter)."""
+    out = tmp_path / "e.h5"
+    result = _run(
+        "solve", _write(tmp_path, case_dict(**{"discretization.contact_elements": 80})), "-o", out, "--error-estimate"
+    )
+    assert result.exit_code == 0, result.output
+    assert "error estimate against 40 elements" in result.output
+    with h5py.File(out) as f:
+        estimate = f.attrs["error_estimate"]
+        x, p_t = f["x"][()], f["p_t"][()]
+        a, p0, mu = f.attrs["hertz_a"], f.attrs["hertz_p0"], f.attrs["mu"]
+        assert f.attrs["error_estimate_elements"] == 40
+        assert 0 < f.attrs["error_estimate_rms"] < estimate
+    from rolling_cli.references import carter
+
+    true_error = np.max(np.abs(p_t - carter.traction(x, 0.51, a, p0, mu, -1))) / (mu * p0)
+    assert true_error <= estimate
+
+
+def test_error_estimate_says_why_it_is_unavailable(tmp_path):
+    """A layer's half mesh would break the b/2 element rule: the solve succeeds, the estimate says why not."""
+    from pathlib import Path
+
+    case = Path(__file__).resolve().parents[1] / "cases" / "tyred_fig11_q41.toml"
+    out = tmp_path / "t.h5"
+    result = _run("solve", case, "-o", out, "--error-estimate")
+    assert result.exit_code == 0, result.output
+    assert "error estimate no estimate: the half mesh cannot be solved" in result.output
+    with h5py.File(out) as f:
+        assert np.isnan(f.attrs["error_estimate"]) and "half mesh" in f.attrs["error_estimate_note"]

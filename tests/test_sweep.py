@@ -10,27 +10,18 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
-import tomli_w
-from click.testing import CliRunner
 
-from helpers import CARTER, case_dict
+from helpers import CARTER, case_dict, run_cli, write_case
 from rolling_cli import sweep
 from rolling_cli.case import load_case
-from rolling_cli.cli import main
 from rolling_cli.errors import CaseError
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 SMALL = case_dict(**{"discretization.contact_elements": 40})
 
 
-def _write(tmp_path, data, name="case.toml"):
-    path = tmp_path / name
-    path.write_text(tomli_w.dumps(data))
-    return path
-
-
-def _run(*args):
-    return CliRunner().invoke(main, [str(a) for a in args])
+_write = write_case
+_run = run_cli
 
 
 def _arrays(path):
