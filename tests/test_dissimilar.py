@@ -7,7 +7,8 @@ import pytest
 
 from helpers import CARTER, assert_contact_laws, assert_force_balance, case_dict, dissimilar, solve
 
-REFERENCE = Path(__file__).resolve().parents[2] / "shared" / "reference"
+#: CONTACT's traction profiles (copied from the project's shared reference folder; see its README)
+REFERENCE = Path(__file__).resolve().parent / "data" / "contact"
 
 
 def _slip_zones(result):
