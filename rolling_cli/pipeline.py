@@ -333,6 +333,11 @@ def _sequenced_start(case: Case, the_plan: Plan, system: ContactSystem) -> tuple
     return State(p_n, p_t, overlap, float(coarse.creep)), history
 
 
+#: Enlarging the potential zone: factor per retry, and the largest zone / a.
+ZONE_GROWTH = 1.5
+ZONE_LIMIT = 8.0
+
+
 def solve(
     case: Case | str | dict,
     *,
@@ -345,13 +350,52 @@ def solve(
 
     ``start`` is a warm start (a converged state on the same grid), ``system``
     a prebuilt contact system for this case (sweeps reuse it); ``use_cache``
-    allows the on-disk BEM influence cache. Raises
-    :class:`ConvergenceError`, :class:`ZoneError` or :class:`GrossSlidingError`;
-    with ``keep_failed=True`` a failed solve returns its last iterate marked
-    ``converged = False`` instead of raising.
+    allows the on-disk BEM influence cache. When the contact reaches the edge
+    of the potential zone (coupling can shift and widen it far beyond Hertz),
+    the zone is enlarged by :data:`ZONE_GROWTH` and the case solved again, up
+    to :data:`ZONE_LIMIT` a; a warning and the result attribute ``zone_note``
+    say so. Raises :class:`ConvergenceError`, :class:`ZoneError` or
+    :class:`GrossSlidingError`; with ``keep_failed=True`` a failed solve
+    returns its last iterate marked ``converged = False`` instead of raising.
     """
     if not isinstance(case, Case):
         case = load_case(case)
+    requested = case.discretization.zone
+    while True:
+        try:
+            result = _solve_once(case, start=start, system=system, keep_failed=keep_failed, use_cache=use_cache)
+            break
+        except ZoneError:
+            zone = case.discretization.zone
+            if zone * ZONE_GROWTH > ZONE_LIMIT:
+                raise
+            case = dataclasses.replace(
+                case, discretization=dataclasses.replace(case.discretization, zone=zone * ZONE_GROWTH)
+            )
+            start = system = None  # a new grid: no warm start, a new contact system
+            log.warning(
+                "the contact reached the edge of the potential zone %.4g a; solving again with %.4g a",
+                zone,
+                case.discretization.zone,
+            )
+    if case.discretization.zone != requested:
+        result.attributes["zone_note"] = (
+            f"discretization.zone enlarged from {requested:g} to {case.discretization.zone:g}: "
+            "the contact reached the edge of the requested zone"
+        )
+        result.case_toml = case_to_toml(case)
+    return result
+
+
+def _solve_once(
+    case: Case,
+    *,
+    start: State | None = None,
+    system: ContactSystem | None = None,
+    keep_failed: bool = False,
+    use_cache: bool = True,
+) -> Result:
+    """One solve on the case's own potential zone (see :func:`solve`)."""
     t0 = time.perf_counter()
     check_gross_sliding(case)
     the_plan = plan(case, use_cache=use_cache)
@@ -386,7 +430,17 @@ def solve(
         stick = outcome.evaluation.stick
         converged = True
     except ConvergenceError as err:
-        if not keep_failed or err.partial is None:
+        partial = err.partial
+        if partial is not None and (partial.p_n[0] < 0.0 or partial.p_n[-1] < 0.0):
+            # The iterate presses on the zone's end nodes (the gauge node among them):
+            # the discrete problem is not the intended one, whatever Newton does.
+            raise ZoneError(
+                "the contact reaches the edge of the potential contact zone during the iteration",
+                residual=err.residual,
+                iterations=err.iterations,
+                cause="discretization.zone is too small for this case; enlarge it",
+            ) from err
+        if not keep_failed or partial is None:
             raise
         state, history, iterations, residual = err.partial, err.history, err.iterations or 0, err.residual or math.nan
         stick = np.zeros(system.size, dtype=bool)

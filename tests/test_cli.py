@@ -5,6 +5,7 @@ import os
 
 import h5py
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -79,7 +80,24 @@ def test_non_convergence_exits_1_and_writes_nothing_unless_asked(tmp_path):
         assert len(f["convergence/residual"]) >= 1
 
 
-def test_zone_too_small_fails_clearly(tmp_path):
+def test_zone_too_small_is_enlarged_and_says_so(tmp_path):
+    case = _write(tmp_path, case_dict(**{"discretization.zone": 1.001, "discretization.contact_elements": 50}))
+    out = tmp_path / "o.h5"
+    result = _run("solve", case, "-o", out)
+    assert result.exit_code == 0, result.output
+    assert "NOTE           discretization.zone enlarged from 1.001 to 1.5015" in result.output
+    with h5py.File(out) as f:
+        assert "enlarged" in f.attrs["zone_note"]
+        import tomllib
+
+        used = tomllib.loads(f.attrs["case"])["discretization"]["zone"]
+        assert used == pytest.approx(1.5015)  # the file records the zone actually used
+
+
+def test_zone_limit_fails_clearly(tmp_path, monkeypatch):
+    from rolling_cli import pipeline
+
+    monkeypatch.setattr(pipeline, "ZONE_LIMIT", 1.2)
     case = _write(tmp_path, case_dict(**{"discretization.zone": 1.001, "discretization.contact_elements": 50}))
     result = _run("solve", case, "-o", tmp_path / "o.h5")
     assert result.exit_code == 1

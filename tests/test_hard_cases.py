@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from helpers import (
@@ -25,7 +25,7 @@ from helpers import (
     dissimilar,
     solve,
 )
-from rolling_cli import sweep
+from rolling_cli import materials, sweep
 from rolling_cli.case import load_case
 from rolling_cli.errors import ZoneError
 from rolling_cli.references import carter
@@ -218,7 +218,15 @@ def test_potential_zone_only_just_larger_than_the_contact():
     assert tight.creep == pytest.approx(roomy.creep, rel=5e-3)
 
 
-def test_a_zone_smaller_than_the_contact_fails_clearly():
+def test_a_zone_smaller_than_the_contact_is_enlarged_or_fails_clearly(monkeypatch):
+    """The contact reaching the zone's edge never passes silently: the zone grows (and the
+    result says so) up to the limit, beyond which the solve stops with a clear message."""
+    r = solve(case_dict(**{"discretization.zone": 1.001, "discretization.contact_elements": 50}))
+    _check(r, load=1812.5, q=0.51 * 0.1 * 1812.5)
+    assert "enlarged from 1.001" in r.zone_note
+    from rolling_cli import pipeline
+
+    monkeypatch.setattr(pipeline, "ZONE_LIMIT", 1.2)
     with pytest.raises(ZoneError, match="edge of the potential contact zone.*discretization.zone"):
         solve(case_dict(**{"discretization.zone": 1.001, "discretization.contact_elements": 50}))
 
@@ -252,7 +260,7 @@ def test_fifty_case_friction_sweep_without_warm_start(tmp_path, base):
 FLOATS = st.floats(allow_nan=False, allow_infinity=False)
 
 
-@settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=30, deadline=None, derandomize=True, database=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     young_a=st.floats(1e2, 1e6),
     young_b=st.floats(1e2, 1e6),
@@ -271,7 +279,17 @@ FLOATS = st.floats(allow_nan=False, allow_infinity=False)
 def test_random_valid_cases(
     young_a, young_b, rigid_a, nu_a, nu_b, radius_a, radius_b, mu, load, q, direction, elements, influence
 ):
-    """Random valid cases (fixed seed: derandomize=True): convergence, laws and balance."""
+    """Random valid cases (fixed seed: derandomize=True): convergence, laws and balance.
+
+    The range: any materials, radii, loads, mu in 0.01-1.5 and |Q| < 0.98 mu P,
+    except the strongly coupled, high-friction corner mu |beta_Dundurs| > 0.6
+    (beta_Dundurs is at most 0.5, for a rigid body on a nu = 0 one). There,
+    near full slip, Newton can need more than the default 100 iterations: in
+    2800 random cases biased to the extremes, 8 failed, all in that corner, all
+    with the clear message (see test_strongly_coupled_corner_says_why).
+    """
+    e_a = math.inf if rigid_a else young_a
+    assume(mu * abs(materials.dundurs_beta(e_a, 0.0 if rigid_a else nu_a, young_b, nu_b)) <= 0.6)
     body_a = (
         {"kind": "rigid", "radius": radius_a}
         if rigid_a
@@ -294,8 +312,28 @@ def test_random_valid_cases(
     _check(r, load=load, q=q * mu * load)
 
 
-def test_helpers_materials_are_the_papers_pair():
-    from rolling_cli import materials
+def test_strongly_coupled_corner_says_why():
+    """mu |beta_Dundurs| = 0.75 (rigid on a nu = 0 body, mu = 1.5) at 0.98 of full slip:
+    the default cap of 100 Newton iterations is not enough, and the solver says so and
+    what to do; with the cap raised it converges (in 17 iterations) and obeys the laws."""
+    from rolling_cli.errors import ConvergenceError
 
+    data = case_dict(
+        **{
+            "bodies.A": {"kind": "rigid", "radius": 16.46},
+            "bodies.B": {"kind": "elastic", "radius": 25.06, "young": 17790.0, "poisson": 0.0},
+            "friction.mu": 1.5,
+            "normal.load": 430.7,
+            "tangential.q_over_mu_p": 0.98,
+            "discretization.contact_elements": 22,
+        }
+    )
+    with pytest.raises(ConvergenceError, match="did not converge.*raise solver.max_iterations"):
+        solve(data)
+    r = solve(case_dict(data, **{"solver.max_iterations": 400}))
+    _check(r, load=430.7, q=0.98 * 1.5 * 430.7)
+
+
+def test_helpers_materials_are_the_papers_pair():
     beta = materials.beta_seed(ALUMINIUM["young"], ALUMINIUM["poisson"], STEEL["young"], STEEL["poisson"])
     assert beta == pytest.approx(0.288, abs=1e-3)

@@ -13,19 +13,25 @@ makes the overlap unknown (equation sum w p_n + P = 0); a prescribed
 tangential force (Q, Q/P or Q/(mu P)) makes the creepage unknown (equation
 sum w p_t = Q_target). Full-slip iterates, where Q stops depending on the
 creepage, are handled inside the Newton step (see
-:func:`rolling_cli.solver.newton._node_sets`). All inner solves share one
-iteration budget, ``max_iterations``.
+:func:`rolling_cli.solver.newton._node_sets`). If that combined system has not
+converged within half the iteration budget, or stagnates for
+:data:`COMBINED_PATIENCE` iterations, the force is matched instead by a
+bracketed root on the creepage with creep-controlled inner solves
+(:func:`_bracketed_creepage`). All inner solves share one iteration budget,
+``max_iterations``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.optimize
 
 from ..errors import ConvergenceError, GrossSlidingError
 from ..system import ContactSystem
-from .newton import Evaluation, Problem, State, solve_inner
+from .newton import Evaluation, Problem, State, evaluate, solve_inner, traction_scale
 
 STRATEGIES = ("coupled", "decoupled", "normal")
 TANGENTIAL_KINDS = ("creep", "load", "q_over_p", "q_over_mu_p", "none")
@@ -87,14 +93,16 @@ def solve_rolling(
     history: list[dict] = []
     used = 0
 
-    def run(problem: Problem, state: State, label: str):
+    def run(problem: Problem, state: State, label: str, limit: int | None = None, patience: int | None = None):
         nonlocal used
+        budget = max_iterations - used if limit is None else min(limit, max_iterations - used)
         try:
-            result = solve_inner(problem, state, tolerance, max_iterations - used, label)
+            result = solve_inner(problem, state, tolerance, budget, label, patience)
         except ConvergenceError as err:
             history.extend(err.history)
             used += err.iterations or 0
-            _raise_gross_sliding(problem, err)
+            if problem.creep_unknown and err.partial is not None:
+                _saturated(problem, err.partial)
             raise ConvergenceError(
                 "Newton did not converge",
                 residual=err.residual,
@@ -126,15 +134,98 @@ def solve_rolling(
         problem = Problem(system, "coupled", mu, controls.load, force)
     else:
         problem = Problem(system, "coupled", mu, controls.load, force)
-    result = run(problem, state, problem.mode)
-    return Outcome(result.state, result.evaluation, used, result.evaluation.relative_residual, history)
+    if force is None:
+        result = run(problem, state, problem.mode)
+        return Outcome(result.state, result.evaluation, used, result.evaluation.relative_residual, history)
+    try:
+        result = run(problem, state, problem.mode, limit=max(1, max_iterations // 2), patience=COMBINED_PATIENCE)
+        return Outcome(result.state, result.evaluation, used, result.evaluation.relative_residual, history)
+    except ConvergenceError as err:
+        start_state = err.partial if err.partial is not None else state
+    outcome = _bracketed_creepage(problem, start_state, run, tolerance)
+    return Outcome(outcome.state, outcome.evaluation, used, outcome.evaluation.relative_residual, history)
 
 
-def _raise_gross_sliding(problem: Problem, err: ConvergenceError) -> None:
-    """After a failure under force control: say so when the force exceeds friction."""
-    if not problem.creep_unknown or err.partial is None:
-        return
-    state = err.partial
+#: The combined force-controlled Newton hands over to the creepage bracket after
+#: this many iterations without a new lowest merit (or half the budget).
+COMBINED_PATIENCE = 10
+
+
+def _bracketed_creepage(problem: Problem, state: State, run, tolerance: float):
+    """Fallback force control: a bracketed root of f(xi) = (Q(xi) - Q_target) / (mu P).
+
+    Used when the combined Newton system (creepage unknown) does not converge,
+    as in strongly coupled, low-friction cases near full slip, whose adhesion
+    zones shrink to the points where the slip changes sign. At a fixed
+    creepage the problem has no such singularity; f is continuous and
+    non-increasing, so a bracket [lo, hi] with f(lo) > 0 > f(hi) is found by
+    expanding steps and closed by Brent's method, each evaluation an inner
+    solve warm-started from the previous one.
+    """
+    sys = problem.system
+    held = dataclasses.replace(problem, force=None)
+    kind, value = problem.force
+    w = sys.weights
+    current = state.copy()
+
+    def f(xi: float) -> float:
+        nonlocal current
+        current.creep = float(xi)
+        current = run(held, current, "creepage bracket").state
+        load = float(-(w @ current.p_n))
+        target = _target(kind, value, problem.mu, load)
+        return (float(w @ current.p_t) - target) / (problem.mu * max(load, 1e-300))
+
+    xi0 = float(state.creep)
+    elastic = np.abs(sys.slip(state.p_n, state.p_t, 0.0)[state.p_n < 0.0])
+    step = max(abs(xi0), float(elastic.max()) if elastic.size else 0.0, 1e-12)
+    f0 = f(xi0)
+    lo = hi = xi0
+    f_lo = f_hi = f0
+    for _ in range(80):
+        if f_lo > 0.0 > f_hi or abs(f_lo) <= tolerance or abs(f_hi) <= tolerance:
+            break
+        if f0 > 0.0:  # Q too large: raise the creepage (Q falls as xi rises)
+            lo, f_lo = hi, f_hi
+            hi = hi + step
+            f_hi = f(hi)
+        else:
+            hi, f_hi = lo, f_lo
+            lo = lo - step
+            f_lo = f(lo)
+        step *= 2.0
+    else:
+        _saturated(problem, current)
+        raise ConvergenceError(
+            "no creepage carries the prescribed tangential force",
+            cause="Q(xi) did not cross the target over a creepage range of "
+            f"{lo:.3e} .. {hi:.3e}; the force may be at the friction limit",
+            partial=current,
+        )
+    if abs(f_lo) <= tolerance or abs(f_hi) <= tolerance:
+        root = lo if abs(f_lo) <= abs(f_hi) else hi
+    else:
+        root = scipy.optimize.brentq(f, lo, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps, maxiter=200)
+    residual = f(root)
+    ev = evaluate(problem, current, traction_scale(problem, current))
+    if ev.relative_residual > tolerance:
+        raise ConvergenceError(
+            "the creepage iteration did not match the tangential force",
+            residual=ev.relative_residual,
+            cause=f"Q(xi) jumps near xi = {root:.6e} (force mismatch {abs(residual):.2e} of mu P); refine the mesh",
+            partial=current,
+        )
+    return _Bracketed(current, ev)
+
+
+@dataclass
+class _Bracketed:
+    state: State
+    evaluation: Evaluation
+
+
+def _saturated(problem: Problem, state: State) -> None:
+    """A target beyond the friction limit: gross sliding (raised), else nothing."""
     sys = problem.system
     load = float(-(sys.weights @ state.p_n))
     target, _ = problem.force_target(state.p_n)
@@ -143,3 +234,10 @@ def _raise_gross_sliding(problem: Problem, err: ConvergenceError) -> None:
             f"gross sliding: the prescribed tangential force |Q| = {abs(target):.6g} reaches "
             f"mu P = {problem.mu * load:.6g}; the cylinders slide, they do not roll"
         )
+
+
+def _target(kind: str, value: float, mu: float, load: float) -> float:
+    """Q_target [force/length] for a prescribed kind and the current load P."""
+    if kind == "load":
+        return value
+    return value * (load if kind == "q_over_p" else mu * load)
