@@ -167,22 +167,28 @@ def _bracketed_creepage(problem: Problem, state: State, run, tolerance: float):
     kind, value = problem.force
     w = sys.weights
     current = state.copy()
+    solved: list[State] = []
 
     def f(xi: float) -> float:
         nonlocal current
-        current.creep = float(xi)
-        current = run(held, current, "creepage bracket").state
+        # start from the solved creepage nearest to xi: Brent's points close in
+        nearest = min(solved, key=lambda s: abs(s.creep - xi)) if solved else current
+        start = nearest.copy()
+        start.creep = float(xi)
+        current = run(held, start, "creepage bracket").state
+        solved.append(current)
         load = float(-(w @ current.p_n))
         target = _target(kind, value, problem.mu, load)
         return (float(w @ current.p_t) - target) / (problem.mu * max(load, 1e-300))
 
     xi0 = float(state.creep)
     elastic = np.abs(sys.slip(state.p_n, state.p_t, 0.0)[state.p_n < 0.0])
-    step = max(abs(xi0), float(elastic.max()) if elastic.size else 0.0, 1e-12)
+    # The stagnated creepage is usually near the root: small first steps, growing fast.
+    step = 1e-3 * max(abs(xi0), float(elastic.max()) if elastic.size else 0.0, 1e-9)
     f0 = f(xi0)
     lo = hi = xi0
     f_lo = f_hi = f0
-    for _ in range(80):
+    for _ in range(40):
         if f_lo > 0.0 > f_hi or abs(f_lo) <= tolerance or abs(f_hi) <= tolerance:
             break
         if f0 > 0.0:  # Q too large: raise the creepage (Q falls as xi rises)
@@ -193,7 +199,7 @@ def _bracketed_creepage(problem: Problem, state: State, run, tolerance: float):
             hi, f_hi = lo, f_lo
             lo = lo - step
             f_lo = f(lo)
-        step *= 2.0
+        step *= 4.0
     else:
         _saturated(problem, current)
         raise ConvergenceError(

@@ -354,7 +354,8 @@ def solve_inner(
     Returns the converged state; raises :class:`ConvergenceError` (with the
     residual history and the last iterate) when ``max_iterations`` Newton steps
     do not bring the relative residual below ``tolerance``, or, with
-    ``patience``, as soon as that many steps pass without a new lowest merit.
+    ``patience``, as soon as that many steps pass without a new lowest merit or
+    a step fails to lower the merit at all.
     """
     if problem.mode not in MODES:
         raise ValueError(f"mode must be one of {MODES}")
@@ -386,7 +387,11 @@ def solve_inner(
         if target_ev.merit <= (1.0 - 1e-4) * ev.merit:
             state, ev, alpha = target, target_ev, 1.0
         else:
+            previous = ev.merit
             state, ev, alpha = _backtrack(problem, state, ev, target, target_ev, scale)
+            if patience is not None and ev.merit >= previous:
+                history[-1]["step"] = alpha
+                break  # a fixed point of the iteration: waiting will not help
         history[-1]["step"] = alpha
     raise ConvergenceError(
         f"Newton did not converge in {iteration} iterations",
