@@ -28,8 +28,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "tests"))
 
-from helpers import assert_contact_laws, assert_force_balance, case_dict, solve  # noqa: E402
-from rolling_cli import materials  # noqa: E402
+import helpers  # noqa: E402
+from helpers import assert_contact_laws, assert_force_balance, solve  # noqa: E402
 
 
 def random_case(rng: random.Random) -> tuple[dict, float]:
@@ -43,31 +43,14 @@ def random_case(rng: random.Random) -> tuple[dict, float]:
     mu = rng.choice([0.01, 1.5, log_uniform(0.01, 1.5)])
     q = rng.choice([-0.98, 0.98, rng.uniform(-0.98, 0.98)])
     load = log_uniform(1, 1e3)
-    body_a = (
-        {"kind": "rigid", "radius": log_uniform(5, 1e3)}
-        if rigid
-        else {"kind": "elastic", "radius": log_uniform(5, 1e3), "young": young_a, "poisson": nu_a}
+    radius_a = log_uniform(5, 1e3)  # the draws keep their order, so a seed gives the same cases
+    radius_b = rng.choice([log_uniform(5, 1e3), math.inf])
+    direction = rng.choice([-1, 1])
+    elements = rng.randint(8, 60)
+    influence = rng.choice(["half-plane"] * 3 + ["bem"])
+    return helpers.random_case(
+        young_a, young_b, rigid, nu_a, nu_b, radius_a, radius_b, mu, load, q, direction, elements, influence
     )
-    body_b = {
-        "kind": "elastic",
-        "radius": rng.choice([log_uniform(5, 1e3), math.inf]),
-        "young": young_b,
-        "poisson": nu_b,
-    }
-    data = case_dict(
-        **{
-            "bodies.A": body_a,
-            "bodies.B": body_b,
-            "friction.mu": mu,
-            "normal.load": load,
-            "tangential.q_over_mu_p": q,
-            "rolling.direction": rng.choice([-1, 1]),
-            "discretization.contact_elements": rng.randint(8, 60),
-            "discretization.influence": rng.choice(["half-plane"] * 3 + ["bem"]),
-        }
-    )
-    beta = materials.dundurs_beta(math.inf if rigid else young_a, 0.0 if rigid else nu_a, young_b, nu_b)
-    return data, mu * abs(beta)
 
 
 def main() -> None:

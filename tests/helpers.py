@@ -71,6 +71,38 @@ def run_cli(*args):
     return CliRunner().invoke(main, [str(a) for a in args])
 
 
+def random_case(
+    young_a, young_b, rigid_a, nu_a, nu_b, radius_a, radius_b, mu, load, q, direction, elements, influence
+) -> tuple[dict, float]:
+    """A case of the property test and of benchmarks/robustness.py, and its mu |beta_Dundurs|.
+
+    Body A is rigid when ``rigid_a`` (its modulus and ratio then unused); B is
+    always elastic. Loaded by P and Q/(mu P).
+    """
+    from rolling_cli import materials
+
+    body_a = (
+        {"kind": "rigid", "radius": radius_a}
+        if rigid_a
+        else {"kind": "elastic", "radius": radius_a, "young": young_a, "poisson": nu_a}
+    )
+    body_b = {"kind": "elastic", "radius": radius_b, "young": young_b, "poisson": nu_b}
+    data = case_dict(
+        **{
+            "bodies.A": body_a,
+            "bodies.B": body_b,
+            "friction.mu": mu,
+            "normal.load": load,
+            "tangential.q_over_mu_p": q,
+            "rolling.direction": direction,
+            "discretization.contact_elements": elements,
+            "discretization.influence": influence,
+        }
+    )
+    beta = materials.dundurs_beta(float("inf") if rigid_a else young_a, 0.0 if rigid_a else nu_a, young_b, nu_b)
+    return data, mu * abs(beta)
+
+
 def dissimilar(**dotted) -> dict:
     """Aluminium (A) on steel (B), beta_seed = 0.288, P = 1000 N/mm."""
     base = case_dict(CARTER, **{"normal.load": 1000.0})

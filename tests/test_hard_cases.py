@@ -23,6 +23,7 @@ from helpers import (
     assert_force_balance,
     case_dict,
     dissimilar,
+    random_case,
     solve,
 )
 from rolling_cli import materials, sweep
@@ -288,26 +289,10 @@ def test_random_valid_cases(
     biased to the extremes (benchmarks/robustness.py), 7 failed, all in that
     corner, all with the clear message (see test_strongly_coupled_corner_says_why).
     """
-    e_a = math.inf if rigid_a else young_a
-    assume(mu * abs(materials.dundurs_beta(e_a, 0.0 if rigid_a else nu_a, young_b, nu_b)) <= 0.6)
-    body_a = (
-        {"kind": "rigid", "radius": radius_a}
-        if rigid_a
-        else {"kind": "elastic", "radius": radius_a, "young": young_a, "poisson": nu_a}
+    data, coupling = random_case(
+        young_a, young_b, rigid_a, nu_a, nu_b, radius_a, radius_b, mu, load, q, direction, elements, influence
     )
-    body_b = {"kind": "elastic", "radius": radius_b, "young": young_b, "poisson": nu_b}
-    data = case_dict(
-        **{
-            "bodies.A": body_a,
-            "bodies.B": body_b,
-            "friction.mu": mu,
-            "normal.load": load,
-            "tangential.q_over_mu_p": q,
-            "rolling.direction": direction,
-            "discretization.contact_elements": elements,
-            "discretization.influence": influence,
-        }
-    )
+    assume(coupling <= 0.6)
     r = solve(data)
     _check(r, load=load, q=q * mu * load)
 
