@@ -10,7 +10,6 @@ by :mod:`rolling_cli.influence.build`, and the pre-solve estimate of a by
 from __future__ import annotations
 
 import dataclasses
-import datetime
 import json
 import logging
 import math
@@ -26,7 +25,7 @@ from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
 from .influence.build import pair_compliance
 from .references import carter, hertz, thin_layer
-from .result import Result, node_states
+from .result import Result, node_states, utc_timestamp
 from .solver.control import Controls, solve_rolling
 from .solver.initial import carter_ratio_for_creep, cold_start
 from .solver.newton import State
@@ -519,11 +518,16 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         centre = half_width = math.nan
     overlap = state.overlap if system.definite_normal else math.nan
     a, b = case.bodies.A, case.bodies.B
+    if load > 0.0:  # Hertz at the solved load (the reference, and the scales written out)
+        ref_a = hertz.half_width(load, the_plan.radius, the_plan.modulus)
+        ref_p0 = hertz.peak_pressure(load, ref_a)
+    else:
+        ref_a = ref_p0 = math.nan
     attrs = {
         "format": "rolling_cli.result",
         "format_version": 1,
         "software_version": __version__,
-        "created": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+        "created": utc_timestamp(),
         "title": case.title or "",
         "converged": converged,
         "iterations": int(iterations),
@@ -535,10 +539,8 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "overlap": float(overlap),
         "solved_overlap": float(state.overlap),
         "mu": mu,
-        "hertz_a": hertz.half_width(load, the_plan.radius, the_plan.modulus) if load > 0 else math.nan,
-        "hertz_p0": hertz.peak_pressure(load, hertz.half_width(load, the_plan.radius, the_plan.modulus))
-        if load > 0
-        else math.nan,
+        "hertz_a": ref_a,
+        "hertz_p0": ref_p0,
         "mesh_half_width": the_plan.half_width,
         "beta_dundurs": 0.5 * the_plan.beta_seed,
         "beta_seed": the_plan.beta_seed,
@@ -570,8 +572,6 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         and load > 0.0
     )
     if similar:
-        ref_a = hertz.half_width(load, the_plan.radius, the_plan.modulus)
-        ref_p0 = hertz.peak_pressure(load, ref_a)
         reference["hertz_pressure"] = hertz.pressure(system.x, ref_a, ref_p0)
         ratio = float(np.clip(q / (mu * load), -1.0, 1.0))
         reference["carter_traction"] = carter.traction(system.x, ratio, ref_a, ref_p0, mu, case.rolling.direction)

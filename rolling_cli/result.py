@@ -7,6 +7,7 @@ on A; the slip s_t = (relative slip velocity of A on B) / |V|.
 
 from __future__ import annotations
 
+import datetime
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -78,6 +79,11 @@ def state_zones(x: np.ndarray, state: np.ndarray) -> list[tuple[str, float, floa
     return [
         (STATE_NAMES[int(state[s])], float(x[s] - half), float(x[e] + half)) for s, e in zip(starts, ends, strict=True)
     ]
+
+
+def utc_timestamp() -> str:
+    """Now, ISO 8601 in UTC to the second: the ``created`` provenance attribute."""
+    return datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
 
 
 def node_states(p_n: np.ndarray, stick: np.ndarray) -> np.ndarray:

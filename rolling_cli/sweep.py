@@ -43,6 +43,7 @@ from .case.validate import convert_scalar, field_metadata
 from .errors import CaseError, GrossSlidingError, RollingError
 from .io_hdf5 import atomic_h5, write_group
 from .references import carter
+from .result import utc_timestamp
 from .solver.newton import State
 
 FORMAT = "rolling_cli.sweep"
@@ -349,12 +350,6 @@ def _environment(values: dict[str, str]):
                 os.environ[key] = value
 
 
-def _now() -> str:
-    import datetime
-
-    return datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
-
-
 class SweepWriter:
     """Appends finished cases to the sweep file, atomically and at most every :data:`FLUSH_SECONDS`.
 
@@ -376,7 +371,7 @@ class SweepWriter:
             handle.attrs["format"] = FORMAT
             handle.attrs["format_version"] = FORMAT_VERSION
             handle.attrs["software_version"] = __version__
-            handle.attrs["created"] = _now()
+            handle.attrs["created"] = utc_timestamp()
             handle.attrs["case"] = case_to_toml(base)
             handle.attrs["sweep"] = spec.describe()
             handle.attrs["sweep_keys"] = json.dumps(list(spec.keys))

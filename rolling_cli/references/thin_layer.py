@@ -41,8 +41,3 @@ def incompressible_half_width(load: float, radius: float, young: float, thicknes
 def half_width_for_overlap(overlap: float, radius: float, incompressible: bool) -> float:
     """a [length] for an imposed overlap: sqrt(2 R d) (Winkler) or sqrt(6 R d) (incompressible)."""
     return math.sqrt((6.0 if incompressible else 2.0) * radius * overlap)
-
-
-def peak_ratio(incompressible: bool) -> float:
-    """p0 a / P [-]: 3/4 (Winkler, parabolic) or 15/16 (incompressible, (a^2 - x^2)^2)."""
-    return 15.0 / 16.0 if incompressible else 0.75

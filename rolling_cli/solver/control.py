@@ -142,8 +142,8 @@ def solve_rolling(
         return Outcome(result.state, result.evaluation, used, result.evaluation.relative_residual, history)
     except ConvergenceError as err:
         start_state = err.partial if err.partial is not None else state
-    outcome = _bracketed_creepage(problem, start_state, run, tolerance)
-    return Outcome(outcome.state, outcome.evaluation, used, outcome.evaluation.relative_residual, history)
+    final, evaluation = _bracketed_creepage(problem, start_state, run, tolerance)
+    return Outcome(final, evaluation, used, evaluation.relative_residual, history)
 
 
 #: The combined force-controlled Newton hands over to the creepage bracket after
@@ -151,7 +151,7 @@ def solve_rolling(
 COMBINED_PATIENCE = 10
 
 
-def _bracketed_creepage(problem: Problem, state: State, run, tolerance: float):
+def _bracketed_creepage(problem: Problem, state: State, run, tolerance: float) -> tuple[State, Evaluation]:
     """Fallback force control: a bracketed root of f(xi) = (Q(xi) - Q_target) / (mu P).
 
     Used when the combined Newton system (creepage unknown) does not converge,
@@ -164,7 +164,6 @@ def _bracketed_creepage(problem: Problem, state: State, run, tolerance: float):
     """
     sys = problem.system
     held = dataclasses.replace(problem, force=None)
-    kind, value = problem.force
     w = sys.weights
     current = state.copy()
     solved: list[State] = []
@@ -178,7 +177,7 @@ def _bracketed_creepage(problem: Problem, state: State, run, tolerance: float):
         current = run(held, start, "creepage bracket").state
         solved.append(current)
         load = float(-(w @ current.p_n))
-        target = _target(kind, value, problem.mu, load)
+        target, _ = problem.force_target(current.p_n)
         return (float(w @ current.p_t) - target) / (problem.mu * max(load, 1e-300))
 
     xi0 = float(state.creep)
@@ -221,13 +220,7 @@ def _bracketed_creepage(problem: Problem, state: State, run, tolerance: float):
             cause=f"Q(xi) jumps near xi = {root:.6e} (force mismatch {abs(residual):.2e} of mu P); refine the mesh",
             partial=current,
         )
-    return _Bracketed(current, ev)
-
-
-@dataclass
-class _Bracketed:
-    state: State
-    evaluation: Evaluation
+    return current, ev
 
 
 def _saturated(problem: Problem, state: State) -> None:
@@ -240,10 +233,3 @@ def _saturated(problem: Problem, state: State) -> None:
             f"gross sliding: the prescribed tangential force |Q| = {abs(target):.6g} reaches "
             f"mu P = {problem.mu * load:.6g}; the cylinders slide, they do not roll"
         )
-
-
-def _target(kind: str, value: float, mu: float, load: float) -> float:
-    """Q_target [force/length] for a prescribed kind and the current load P."""
-    if kind == "load":
-        return value
-    return value * (load if kind == "q_over_p" else mu * load)
