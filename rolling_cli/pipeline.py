@@ -1,10 +1,26 @@
-"""One solve, stage by stage: case -> plan -> influence -> system -> Newton -> result.
+"""One solve, stage by stage: case -> plan -> influence -> contact system -> solver -> result.
 
-:func:`solve` is the public entry point; the stages are plain functions so that
-sweeps can reuse the expensive ones: a prebuilt contact system and a warm
-start can be passed in, influences are memoised (and BEM ones cached on disk)
-by :mod:`rolling_cli.influence.build`, and the pre-solve estimate of a by
-:func:`estimate_half_width`.
+* :func:`plan` (pure, no solves): E*, R*, beta, the contact scale a, the contact
+  grid and the effects. a is the Hertz half-width when the load is prescribed
+  on two half-spaces; otherwise a first guess from closed forms
+  (:func:`first_guess`) that the mesh path measures.
+* :func:`build_contact_system`: the influence (closed form or BEM) and the
+  linear rolling system of a plan.
+* :func:`solve`: walks the **mesh path** with the continuation driver
+  (:func:`rolling_cli.solver.continuation.follow`): levels that measure a by
+  coarse frictionless solves (overlap control, layers), coarse grids for large
+  coupled half-plane grids (grid sequencing), the case's own grid, and larger
+  zones while the contact reaches the zone's edge. Each level starts from the
+  previous level's solution moved onto its grid (an explicit transfer), the
+  first from Hertz and Carter (:mod:`rolling_cli.solver.initial`). Each level's
+  solve runs the solver strategies (:mod:`rolling_cli.solver.strategies`) on its
+  own iteration budget, ``solver.max_iterations``.
+* :func:`assemble`: the :class:`~rolling_cli.result.Result`.
+
+Sweeps reuse the expensive stages: :func:`prepare` gives the plan and the
+contact system of a case (influences are memoised, BEM ones cached on disk,
+measured half-widths memoised), and :func:`solve` accepts a prebuilt system and
+a warm start.
 """
 
 from __future__ import annotations
@@ -14,6 +30,7 @@ import json
 import logging
 import math
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,9 +43,11 @@ from .grid import ContactGrid
 from .influence.build import pair_compliance
 from .references import carter, hertz, thin_layer
 from .result import Result, node_states, utc_timestamp
-from .solver.control import Controls, solve_rolling
+from .solver import continuation, control, formulation, predictor, strategies
+from .solver.budget import Budget
+from .solver.formulation import State
 from .solver.initial import carter_ratio_for_creep, cold_start
-from .solver.newton import State
+from .solver.strategies import Controls, Solution, StrategyFailed, Task
 from .system import ContactSystem, build_system
 
 log = logging.getLogger(__name__)
@@ -39,9 +58,10 @@ class Plan:
     """Derived quantities that fix the discretisation.
 
     ``modulus`` E* [stress], ``radius`` R* [length], ``beta_seed`` [-],
-    ``half_width`` Hertz a [length] (estimated from the overlap when only the
-    overlap is given), ``p0`` [stress], ``load`` P or its estimate [force/length],
-    ``coupling`` the measured coupling strength once the system is built [-].
+    ``half_width`` the contact scale a [length], ``measured`` whether a is known
+    (Hertz, or measured by coarse solves) or only a first guess, ``p0`` [stress],
+    ``load`` P or its estimate [force/length], ``coupling`` the measured
+    coupling strength once the system is built [-].
     """
 
     modulus: float
@@ -52,27 +72,29 @@ class Plan:
     load: float
     grid: ContactGrid
     effects: effects_mod.Effects
+    measured: bool = True
     coupling: float = 0.0
 
 
-def plan(case: Case, half_width: float | None = None, use_cache: bool = True, check: bool = True) -> Plan:
-    """Materials, contact scale a, contact grid and effects of a case.
+def plan(case: Case, half_width: float | None = None, check: bool = True) -> Plan:
+    """Materials, contact scale a, contact grid and effects of a case. Pure: no solves.
 
     a is the Hertz half-width when the load is prescribed and both bodies are
-    half-spaces; otherwise (an imposed overlap, or a layered body) it is
-    measured by a coarse frictionless pre-solve (:func:`estimate_half_width`).
-    ``half_width`` overrides it. ``check=False`` skips the mesh rules (coarse
-    pre-solves only).
+    half-spaces; ``half_width`` overrides it (a measured value); otherwise it is
+    :func:`first_guess` and the plan says ``measured = False``. The mesh rules
+    (layer elements at most b/2) are checked on measured plans unless
+    ``check=False`` (coarse pre-solves).
     """
     a, b = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
     r_star = materials.effective_radius(a.radius, b.radius)
     beta = materials.beta_seed(a.modulus, a.ratio, b.modulus, b.ratio)
+    measured = True
     if half_width is None:
         if case.normal.load is not None and not _layered(case):
             half_width = hertz.half_width(float(case.normal.load), r_star, e_star)
         else:
-            half_width = estimate_half_width(case, e_star, r_star, use_cache)
+            half_width, measured = first_guess(case, e_star, r_star), False
     if case.normal.load is not None:
         load = float(case.normal.load)
     else:
@@ -81,9 +103,23 @@ def plan(case: Case, half_width: float | None = None, use_cache: bool = True, ch
     disc = case.discretization
     order = 2 if disc.element == "quadratic" else 0
     grid = ContactGrid(disc.zone * half_width, disc.contact_elements, order)
-    if check:
+    if check and measured:
         _check_layer_elements(case, grid)
-    return Plan(e_star, r_star, beta, half_width, p0, load, grid, effects_mod.decide(case))
+    return Plan(e_star, r_star, beta, half_width, p0, load, grid, effects_mod.decide(case), measured)
+
+
+def measured_plan(case: Case, use_cache: bool = True) -> Plan:
+    """The plan with a known contact scale: Hertz, or measured by :func:`estimate_half_width`."""
+    the_plan = plan(case)
+    if not the_plan.measured:
+        the_plan = plan(case, half_width=estimate_half_width(case, use_cache))
+    return the_plan
+
+
+def prepare(case: Case, use_cache: bool = True) -> tuple[Plan, ContactSystem]:
+    """The measured plan and its contact system (sweeps share them)."""
+    the_plan = measured_plan(case, use_cache)
+    return the_plan, build_contact_system(case, the_plan, use_cache)
 
 
 #: Contact elements on a layer may be at most this fraction of its thickness
@@ -111,84 +147,6 @@ def _check_layer_elements(case: Case, grid: ContactGrid) -> None:
 
 def _layered(case: Case) -> bool:
     return case.bodies.A.kind == "layered" or case.bodies.B.kind == "layered"
-
-
-#: Coarse pre-solve: contact elements, and potential zone / first guess of a.
-PRESOLVE_ELEMENTS = 16
-PRESOLVE_ZONE = 2.5
-
-
-_estimates: dict[str, float] = {}
-
-
-def estimate_half_width(case: Case, e_star: float, r_star: float, use_cache: bool = True) -> float:
-    """Memoised :func:`measure_half_width` (sweeps vary friction and loads around one model)."""
-    data = case_to_dict(case)
-    key = json.dumps(
-        {k: data.get(k) for k in ("bodies", "normal", "discretization", "solver")}, sort_keys=True, default=str
-    )
-    if key not in _estimates:
-        if len(_estimates) > 64:
-            _estimates.clear()
-        _estimates[key] = measure_half_width(case, e_star, r_star, use_cache)
-    return _estimates[key]
-
-
-def measure_half_width(case: Case, e_star: float, r_star: float, use_cache: bool = True) -> float:
-    """Contact half-width a [length] from coarse frictionless normal solves of the case's own model.
-
-    The first guess is :func:`first_guess`. Coarse solves (the model's geometry
-    scaled by the current guess; on a layer, elements of at most
-    :data:`PRESOLVE_LAYER_ELEMENT` thicknesses) refine it until it moves by less
-    than two coarse node spacings; the zone doubles if the contact reaches its
-    edge.
-    """
-    guess = first_guess(case, e_star, r_star)
-    thinnest = min(
-        (float(b.layer_thickness) for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"), default=math.inf
-    )
-    zone = PRESOLVE_ZONE
-    coarse = dataclasses.replace(
-        case,
-        friction=dataclasses.replace(case.friction, mu=0.0),
-        tangential=type(case.tangential)(),
-        solver=dataclasses.replace(case.solver, penalty="auto"),
-    )
-    for _ in range(6):
-        trial = dataclasses.replace(
-            coarse,
-            discretization=dataclasses.replace(
-                case.discretization,
-                contact_elements=_presolve_elements(zone * guess, thinnest),
-                zone=zone,
-                slip_derivative="fd",
-            ),
-        )
-        the_plan = plan(trial, half_width=guess, check=False)
-        system = build_contact_system(trial, the_plan, use_cache)
-        start = initial_state(trial, the_plan, system)
-        outcome = solve_rolling(
-            system, 0.0, _controls(trial, the_plan.effects), start, "normal", 1e-10, trial.solver.max_iterations
-        )
-        contact = outcome.state.p_n < 0.0
-        if contact[0] or contact[-1] or not contact.any():
-            zone *= 2.0
-            continue
-        half = 0.5 * system.spacing
-        measured = 0.5 * (system.x[contact].max() - system.x[contact].min()) + half
-        if abs(measured - guess) <= 2.0 * system.spacing:
-            return float(measured)
-        guess, zone = float(measured), 1.6
-    return float(guess)
-
-
-#: In the pre-solve, layer elements may be this many thicknesses long.
-PRESOLVE_LAYER_ELEMENT = 2.0
-
-
-def _presolve_elements(zone_half_width: float, thickness: float) -> int:
-    needed = int(np.ceil(2.0 * zone_half_width / (PRESOLVE_LAYER_ELEMENT * thickness))) if thickness < math.inf else 0
-    return int(min(max(PRESOLVE_ELEMENTS, needed), 400))
 
 
 def first_guess(case: Case, e_star: float, r_star: float) -> float:
@@ -258,7 +216,8 @@ def build_contact_system_with_origin(
     return system, origin
 
 
-def _controls(case: Case, effects: effects_mod.Effects) -> Controls:
+def controls(case: Case, effects: effects_mod.Effects) -> Controls:
+    """What the case prescribes, as the solver's :class:`Controls`."""
     kind, value = case.tangential.control()
     if not effects.tangential:
         kind, value = "none", 0.0
@@ -287,58 +246,246 @@ def initial_state(case: Case, the_plan: Plan, system: ContactSystem) -> State:
     return cold_start(system, the_plan.half_width, the_plan.load, case.friction.mu, ratio, creep, case.normal.overlap)
 
 
+# --- the mesh path --------------------------------------------------------------------------------
+
+
+@dataclass
+class Level:
+    """One mesh level of a solve: its case (a coarse frictionless one while a is measured), plan,
+    contact system, the kind ("a-estimate", "coarse grid", "case grid", "enlarged zone") and, once
+    solved, its solution and Newton iterations."""
+
+    kind: str
+    case: Case
+    plan: Plan
+    system: ContactSystem | None = None
+    origin: dict | None = None
+    solution: Solution | None = None
+    iterations: int = 0
+    seconds: float = 0.0
+    failure: ConvergenceError | None = None
+
+    history: list[dict] | None = None
+
+    @property
+    def touches_edge(self) -> bool:
+        """The solution presses on an end node of the zone; for a failed level, any iterate did."""
+        if self.failure is not None:
+            return any(row.get("edge") for row in self.history or [])
+        return _contact_half_width(self.solution)[1]
+
+
+#: Coarse pre-solve that measures a: contact elements, and potential zone / first guess of a.
+PRESOLVE_ELEMENTS = 16
+PRESOLVE_ZONE = 2.5
+#: In the pre-solve, layer elements may be this many thicknesses long.
+PRESOLVE_LAYER_ELEMENT = 2.0
 #: Grid sequencing: a coupled half-plane solve with at least this many elements
-#: starts from the solution on a grid with a quarter of the elements
-#: (recursively). Decoupled solves start well from Hertz and Carter already:
+#: starts from the solution on a grid with a quarter of the elements (and so on
+#: down). Decoupled solves start well from Hertz and Carter already:
 #: sequencing them costs more than it saves (benchmarks/RESULTS.md).
 SEQUENCING_ELEMENTS = 240
-
-
-def _sequenced_start(case: Case, the_plan: Plan, system: ContactSystem) -> tuple[State, list[dict]]:
-    """Cold start, or for large half-plane grids the interpolated coarse-grid solution.
-
-    Newton's cost on a fine grid is mostly the iterations that move the
-    contact and adhesion boundaries; a solution on a grid 4x coarser (cost
-    1/64 per factorisation) puts them within a node or two. The overlap and
-    creepage carry over unchanged (same zone, same log reference length).
-    """
-    disc = case.discretization
-    if (
-        disc.influence != "half-plane"
-        or disc.contact_elements < SEQUENCING_ELEMENTS
-        or the_plan.effects.strategy != "coupled"
-    ):
-        return initial_state(case, the_plan, system), []
-    coarse_case = dataclasses.replace(
-        case, discretization=dataclasses.replace(disc, contact_elements=disc.contact_elements // 4)
-    )
-    try:
-        coarse = solve(coarse_case)
-    except (ConvergenceError, ZoneError):
-        return initial_state(case, the_plan, system), []
-    x = system.x
-    p_n = np.minimum(np.interp(x, coarse.x, coarse.p_n, left=0.0, right=0.0), 0.0)
-    # Err on the small side at the contact edges: a contact set too large is shed
-    # one node per Newton iteration (only the outermost node shows tension), a
-    # set too small gains all its missing nodes at once (all of them penetrate).
-    in_contact = coarse.x[coarse.p_n < 0.0]
-    if in_contact.size:
-        p_n[(x < in_contact.min()) | (x > in_contact.max())] = 0.0
-    bound = -case.friction.mu * p_n
-    p_t = np.clip(np.interp(x, coarse.x, coarse.p_t, left=0.0, right=0.0), -bound, bound)
-    overlap = float(coarse.attributes.get("solved_overlap", 0.0))
-    label = f"coarse grid, {coarse_case.discretization.contact_elements} elements: "
-    history = [{**row, "stage": label + str(row.get("stage", ""))} for row in coarse.history]
-    return State(p_n, p_t, overlap, float(coarse.creep)), history
-
-
-#: mu |beta_Dundurs| above which Newton convergence is not guaranteed (measured:
-#: benchmarks/robustness.py; every failure in 2800 random cases lies above it).
-STRONG_COUPLING = 0.6
-
-#: Enlarging the potential zone: factor per retry, and the largest zone / a.
+#: Enlarging the potential zone: factor per step, and the largest zone / a.
 ZONE_GROWTH = 1.5
 ZONE_LIMIT = 8.0
+#: mu |beta_Dundurs| above which the coupling is strong (named in failure messages).
+STRONG_COUPLING = 0.6
+
+
+def _presolve_case(case: Case, guess: float, zone: float) -> Case:
+    """The coarse frictionless normal case that measures a around the guess ``guess`` [length]."""
+    thinnest = min(
+        (float(b.layer_thickness) for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"), default=math.inf
+    )
+    needed = int(np.ceil(2.0 * zone * guess / (PRESOLVE_LAYER_ELEMENT * thinnest))) if thinnest < math.inf else 0
+    elements = int(min(max(PRESOLVE_ELEMENTS, needed), 400))
+    return dataclasses.replace(
+        case,
+        friction=dataclasses.replace(case.friction, mu=0.0),
+        tangential=type(case.tangential)(),
+        solver=dataclasses.replace(case.solver, penalty="auto"),
+        discretization=dataclasses.replace(
+            case.discretization, contact_elements=elements, zone=zone, slip_derivative="fd"
+        ),
+    )
+
+
+def _contact_half_width(solution: Solution) -> tuple[float, bool]:
+    """Measured contact half-width [length] (node cells included) and whether it touches the zone's ends."""
+    system, p_n = solution.problem.system, solution.state.p_n
+    contact = p_n < 0.0
+    if not contact.any():
+        return math.nan, True
+    half = 0.5 * system.spacing
+    width = 0.5 * (system.x[contact].max() - system.x[contact].min()) + half
+    return float(width), bool(contact[0] or contact[-1])
+
+
+class MeshPath:
+    """The mesh levels of one solve, walked by the continuation driver (module docstring).
+
+    :meth:`targets` is the path: a generator of level numbers that decides the
+    next level from the solved ones (``points``): the a-estimate levels while a
+    moves by more than two coarse node spacings (the coarse zone doubles when the
+    contact reaches its ends), the coarse grid levels, the case's grid, then
+    larger zones while the contact reaches the zone's edge. ``estimates_only``
+    stops after the a-estimate levels (:func:`estimate_half_width`).
+    """
+
+    def __init__(
+        self,
+        case: Case,
+        base: Plan,
+        system: ContactSystem | None = None,
+        start: State | None = None,
+        use_cache: bool = True,
+        estimates_only: bool = False,
+        compare_start: bool = False,
+    ) -> None:
+        self.case = case
+        self.base = base
+        self.given = system
+        self.start = start
+        self.use_cache = use_cache
+        self.estimates_only = estimates_only
+        self.levels: dict[float, Level] = {}
+        self.points: list[tuple[float, Level | None]] = [(0.0, None)]
+        self.history: list[dict] = []
+        self.timings = {"influence": 0.0, "solve": 0.0}
+        self.measured_half_width = base.half_width
+        self.warm = False
+        self.compare_start = compare_start
+
+    def _announce(self, level: Level) -> float:
+        number = float(len(self.levels) + 1)
+        self.levels[number] = level
+        return number
+
+    def targets(self) -> Iterator[float]:
+        """The level numbers of the path (see the class docstring)."""
+        case, base = self.case, self.base
+        if not base.measured and self.given is None:
+            guess, zone = base.half_width, PRESOLVE_ZONE
+            for _ in range(6):
+                coarse = _presolve_case(case, guess, zone)
+                yield self._announce(Level("a-estimate", coarse, plan(coarse, half_width=guess, check=False)))
+                last = self.points[-1][1]
+                measured, touches = _contact_half_width(last.solution)
+                if touches:
+                    zone *= 2.0
+                    continue
+                close = abs(measured - guess) <= 2.0 * last.system.spacing
+                guess, zone = measured, 1.6
+                if close:
+                    break
+            self.measured_half_width = guess
+            if self.estimates_only:
+                return
+            base = plan(case, half_width=guess)
+        disc = case.discretization
+        if (
+            self.given is None
+            and disc.influence == "half-plane"
+            and base.effects.strategy == "coupled"
+            and disc.contact_elements >= SEQUENCING_ELEMENTS
+        ):
+            coarse_elements = []
+            elements = disc.contact_elements
+            while elements >= SEQUENCING_ELEMENTS:
+                elements //= 4
+                coarse_elements.append(elements)
+            for elements in reversed(coarse_elements):
+                coarse = dataclasses.replace(case, discretization=dataclasses.replace(disc, contact_elements=elements))
+                yield self._announce(Level("coarse grid", coarse, plan(coarse, half_width=base.half_width)))
+        yield self._announce(Level("case grid", case, base, self.given))
+        while True:
+            last = self.points[-1][1]
+            if not last.touches_edge:
+                return
+            zone = last.case.discretization.zone * ZONE_GROWTH
+            if zone > ZONE_LIMIT * (1.0 + 1e-9):
+                return
+            log.warning(
+                "the contact reached the edge of the potential zone %.4g a; solving again with %.4g a",
+                last.case.discretization.zone,
+                zone,
+            )
+            grown = dataclasses.replace(case, discretization=dataclasses.replace(case.discretization, zone=zone))
+            yield self._announce(Level("enlarged zone", grown, plan(grown, half_width=last.plan.half_width)))
+
+    def predict(self, points: list, number: float) -> tuple[State, bool, bool] | None:
+        """The start of a level: (state, cold, settle), or None for the closed-form cold start.
+
+        A given warm start is used; with ``compare_start`` only when its residual
+        merit is below that of the closed-form cold start (a neighbour's plain copy
+        can be worse than Carter's solution). A level after another starts from its solution moved onto the
+        new grid (warm, except after a frictionless a-estimate level, whose
+        pressure and overlap then replace those of the cold start).
+        """
+        previous, level = points[-1][1], self.levels[number]
+        if previous is not None and previous.failure is not None:
+            previous = None  # after a failed level (a zone too small): a cold start
+        if previous is None:
+            usable = self.start is not None and level.kind == "case grid" and level.system is not None
+            if usable and self.start.p_n.shape == level.system.x.shape:
+                better = True
+                if self.compare_start:
+                    cold = initial_state(level.case, level.plan, level.system)
+                    task = _task(level.case, level.plan, level.system)
+                    better = strategies.merit(task, self.start) <= strategies.merit(task, cold)
+                if better:
+                    self.warm = True
+                    return self.start, False, False
+            return None
+        x_to = level.plan.grid.x
+        moved = predictor.transfer(previous.solution.state, previous.system.x, x_to, level.case.friction.mu)
+        if previous.kind == "a-estimate" and level.kind != "a-estimate":
+            guess = initial_state(level.case, level.plan, self._system(level))
+            guess.p_n, guess.overlap = moved.p_n, moved.overlap
+            return guess, True, True
+        return moved, False, False
+
+    def _system(self, level: Level) -> ContactSystem:
+        if level.system is None:
+            t0 = time.perf_counter()
+            level.system, level.origin = build_contact_system_with_origin(level.case, level.plan, self.use_cache)
+            self.timings["influence"] += time.perf_counter() - t0
+        return level.system
+
+    def solve_at(self, number: float, start) -> tuple[Level, int]:
+        """Solve one level from its predicted start on a fresh budget of solver.max_iterations."""
+        level = self.levels[number]
+        system = self._system(level)
+        task = _task(level.case, level.plan, system)
+        budget = Budget(level.case.solver.max_iterations)
+        if start is None:
+            state, cold, settle = initial_state(level.case, level.plan, system), True, False
+        else:
+            state, cold, settle = start
+        t0 = time.perf_counter()
+        try:
+            level.solution = control.solve(task, state, budget, cold=cold, settle=settle)
+            return level, budget.taken
+        except ConvergenceError as err:
+            level.failure, level.history = err, budget.history
+            if level.kind in ("case grid", "enlarged zone") and level.touches_edge:
+                return level, budget.taken  # a re-mesh event: the zone is too small
+            raise _LevelFailed(level, err) from None
+        finally:
+            for row in budget.history:
+                row["level"] = level.kind
+            self.history.extend(budget.history)
+            level.iterations = budget.taken
+            level.seconds = time.perf_counter() - t0
+            self.timings["solve"] += level.seconds
+
+    def run(self) -> Level:
+        """Walk the path; returns the last level. Raises :class:`_LevelFailed` (via its cause)."""
+        try:
+            continuation.follow(self.targets(), self.solve_at, self.predict, self.points, failure=_LevelFailed)
+        except continuation.ContinuationFailed as err:
+            raise err.__cause__ from None
+        return self.points[-1][1]
 
 
 def solve(
@@ -348,130 +495,129 @@ def solve(
     system: ContactSystem | None = None,
     keep_failed: bool = False,
     use_cache: bool = True,
+    compare_start: bool = False,
 ) -> Result:
     """Solve a case (a :class:`Case`, a case-file path or a TOML dict); return a :class:`Result`.
 
-    ``start`` is a warm start (a converged state on the same grid), ``system``
-    a prebuilt contact system for this case (sweeps reuse it); ``use_cache``
-    allows the on-disk BEM influence cache. When the contact reaches the edge
-    of the potential zone (coupling can shift and widen it far beyond Hertz),
-    the zone is enlarged by :data:`ZONE_GROWTH` and the case solved again, up
-    to :data:`ZONE_LIMIT` a; a warning and the result attribute ``zone_note``
-    say so. Raises :class:`ConvergenceError`, :class:`ZoneError` or
-    :class:`GrossSlidingError`; with ``keep_failed=True`` a failed solve
-    returns its last iterate marked ``converged = False`` instead of raising.
+    ``start`` is a warm start on the case's own grid (a converged or predicted
+    neighbour; with ``compare_start`` it is used only when its residual is below
+    the cold start's), ``system`` a prebuilt contact system for this case (sweeps
+    reuse it). Raises :class:`ConvergenceError`, :class:`ZoneError` or
+    :class:`GrossSlidingError`; with ``keep_failed=True`` a failed solve returns
+    its best iterate marked ``converged = False`` instead of raising.
     """
     if not isinstance(case, Case):
         case = load_case(case)
-    requested = case.discretization.zone
-    while True:
-        try:
-            result = _solve_once(case, start=start, system=system, keep_failed=keep_failed, use_cache=use_cache)
-            break
-        except ZoneError:
-            zone = case.discretization.zone
-            if zone * ZONE_GROWTH > ZONE_LIMIT:
-                raise
-            case = dataclasses.replace(
-                case, discretization=dataclasses.replace(case.discretization, zone=zone * ZONE_GROWTH)
-            )
-            start = system = None  # a new grid: no warm start, a new contact system
-            log.warning(
-                "the contact reached the edge of the potential zone %.4g a; solving again with %.4g a",
-                zone,
-                case.discretization.zone,
-            )
-    if case.discretization.zone != requested:
-        result.attributes["zone_note"] = (
-            f"discretization.zone enlarged from {requested:g} to {case.discretization.zone:g}: "
-            "the contact reached the edge of the requested zone"
-        )
-        result.case_toml = case_to_toml(case)
-    return result
-
-
-def _solve_once(
-    case: Case,
-    *,
-    start: State | None = None,
-    system: ContactSystem | None = None,
-    keep_failed: bool = False,
-    use_cache: bool = True,
-) -> Result:
-    """One solve on the case's own potential zone (see :func:`solve`)."""
     t0 = time.perf_counter()
     check_gross_sliding(case)
-    the_plan = plan(case, use_cache=use_cache)
-    for warning in the_plan.effects.warnings:
+    base = measured_plan(case, use_cache) if system is not None else plan(case)
+    for warning in base.effects.warnings:
         log.warning(warning)
-    if system is None:
-        system, origin = build_contact_system_with_origin(case, the_plan, use_cache)
-        the_plan = dataclasses.replace(the_plan, effects=the_plan.effects.with_influence_origin(origin))
-    strength = coupling_strength(system)
-    the_plan = dataclasses.replace(the_plan, coupling=strength or 0.0)
-    if strength is not None:
-        the_plan = dataclasses.replace(the_plan, effects=the_plan.effects.with_coupling_strength(strength))
-    t1 = time.perf_counter()
-    coarse_history: list[dict] = []
-    warm = start is not None and start.p_n.shape == system.x.shape
-    if not warm:
-        start, coarse_history = _sequenced_start(case, the_plan, system)
-        warm = bool(coarse_history)
-    message = ""
+    path = MeshPath(case, base, system, start, use_cache, compare_start=compare_start)
     try:
-        outcome = solve_rolling(
-            system,
-            case.friction.mu,
-            _controls(case, the_plan.effects),
-            start,
-            the_plan.effects.strategy,
-            case.solver.tolerance,
-            case.solver.max_iterations,
-            warm=warm,
+        final = path.run()
+    except _LevelFailed as failed:
+        return _failure(failed.level, failed.error, path, keep_failed)
+    if final.failure is not None:
+        return _failure(final, final.failure, path, keep_failed)
+    if final.touches_edge:
+        raise _zone_error(final)
+    result = assemble(final, path.history, path.timings)
+    if final.case.discretization.zone != case.discretization.zone:
+        result.attributes["zone_note"] = (
+            f"discretization.zone enlarged from {case.discretization.zone:g} to {final.case.discretization.zone:g}: "
+            "the contact reached the edge of the requested zone"
         )
-        state, history, iterations, residual = outcome.state, outcome.history, outcome.iterations, outcome.residual
-        stick = outcome.evaluation.stick
-        converged = True
-    except ConvergenceError as err:
-        partial = err.partial
-        if partial is not None and (partial.p_n[0] < 0.0 or partial.p_n[-1] < 0.0):
-            # The iterate presses on the zone's end nodes (the gauge node among them):
-            # the discrete problem is not the intended one, whatever Newton does.
-            raise ZoneError(
-                "the contact reaches the edge of the potential contact zone during the iteration",
-                residual=err.residual,
-                iterations=err.iterations,
-                cause="discretization.zone is too small for this case; enlarge it",
-            ) from err
-        strength = abs(0.5 * the_plan.beta_seed) * case.friction.mu
-        if strength > STRONG_COUPLING and not err.cause.startswith("strong"):
-            err = ConvergenceError(
-                "Newton did not converge",
-                residual=err.residual,
-                iterations=err.iterations,
-                history=err.history,
-                cause=f"strong normal-tangential coupling with high friction (mu |beta_Dundurs| = {strength:.2f} "
-                f"> {STRONG_COUPLING}): convergence is not guaranteed here; try more iterations "
-                "(solver.max_iterations), a finer mesh, or a load further from full slip",
-                partial=partial,
-            )
-        if not keep_failed or partial is None:
-            raise err
-        state, history, iterations, residual = err.partial, err.history, err.iterations or 0, err.residual or math.nan
-        stick = np.zeros(system.size, dtype=bool)
-        converged = False
-        message = str(err)
-    t2 = time.perf_counter()
-    history = coarse_history + history
-    if not the_plan.effects.tangential and case.friction.mu > 0.0:
-        stick = state.p_n < 0.0  # p_t = 0, xi = 0: every contact node adheres
-    result = _assemble(case, the_plan, system, state, stick, history, iterations, residual, converged)
-    result.attributes["message"] = message
-    result.attributes["time_influence"] = t1 - t0
-    result.attributes["time_solve"] = t2 - t1
-    if converged:
-        check_zone(result, system)
+        result.case_toml = case_to_toml(final.case)
+    result.attributes["time_total_solve"] = time.perf_counter() - t0
+    result.attributes["start"] = "warm" if path.warm else "cold"
+    result.attributes["iterations_total"] = int(sum(level.iterations for level in path.levels.values()))
     return result
+
+
+class _LevelFailed(Exception):
+    """A mesh level did not converge (carries the level and its ConvergenceError)."""
+
+    def __init__(self, level: Level, error: ConvergenceError) -> None:
+        self.level = level
+        self.error = error
+        self.reason = str(error)
+        self.residual = error.residual if error.residual is not None else math.nan
+        super().__init__(self.reason)
+
+
+def _task(case: Case, the_plan: Plan, system: ContactSystem) -> Task:
+    return Task(
+        system, case.friction.mu, controls(case, the_plan.effects), case.solver.tolerance, the_plan.effects.strategy
+    )
+
+
+def _zone_error(level: Level) -> ZoneError:
+    x, p_n = level.system.x, level.solution.state.p_n
+    contact = p_n < 0.0
+    return ZoneError(
+        "the contact reaches the edge of the potential contact zone, so the answer is wrong",
+        residual=level.solution.evaluation.relative_residual,
+        iterations=level.iterations,
+        cause="discretization.zone is too small for this load; enlarge it "
+        f"(contact covers x = {x[contact].min():.4g} .. {x[contact].max():.4g}, zone {x[0]:.4g} .. {x[-1]:.4g})",
+    )
+
+
+def _failure(level: Level, err: ConvergenceError, path: MeshPath, keep_failed: bool) -> Result:
+    """A failed level: a ZoneError when its best iterate presses on the zone's ends, else the
+    ConvergenceError (naming the level, and strong coupling where it applies); or, with
+    ``keep_failed``, the best iterate as a result marked not converged."""
+    partial = err.partial
+    if partial is not None and (partial.p_n[0] < 0.0 or partial.p_n[-1] < 0.0):
+        raise ZoneError(
+            "the contact reaches the edge of the potential contact zone during the iteration",
+            residual=err.residual,
+            iterations=err.iterations,
+            cause="discretization.zone is too small for this case; enlarge it",
+        ) from err
+    cause = err.cause
+    strength = abs(0.5 * level.plan.beta_seed) * level.case.friction.mu
+    if strength > STRONG_COUPLING:
+        cause += f"; the normal-tangential coupling is strong (mu |beta_Dundurs| = {strength:.2f})"
+    where = {
+        "a-estimate": " in the frictionless pre-solve that measures the contact half-width",
+        "coarse grid": " on a coarse grid",
+    }.get(level.kind, "")
+    message = str(err).split(", relative residual")[0].replace("did not converge", "did not converge" + where, 1)
+    err = ConvergenceError(
+        message, residual=err.residual, iterations=err.iterations, history=path.history, cause=cause, partial=partial
+    )
+    if not keep_failed or partial is None or level.kind not in ("case grid", "enlarged zone"):
+        raise err
+    task = _task(level.case, level.plan, level.system)
+    problem = task.problem(task.full_mode)
+    prepared = task.prepared(partial)
+    ev = formulation.evaluate(problem, prepared, formulation.traction_scales(problem, prepared))
+    ev.stick[:] = False
+    level.solution = Solution(prepared, ev, problem)
+    result = assemble(level, path.history, path.timings, converged=False)
+    result.attributes["message"] = str(err)
+    return result
+
+
+_estimates: dict[str, float] = {}
+
+
+def estimate_half_width(case: Case, use_cache: bool = True) -> float:
+    """The contact scale a [length] measured by the a-estimate levels of the mesh path (memoised:
+    sweeps vary friction and loads around one model)."""
+    data = case_to_dict(case)
+    key = json.dumps(
+        {k: data.get(k) for k in ("bodies", "normal", "discretization", "solver")}, sort_keys=True, default=str
+    )
+    if key not in _estimates:
+        if len(_estimates) > 64:
+            _estimates.clear()
+        path = MeshPath(case, plan(case), use_cache=use_cache, estimates_only=True)
+        path.run()
+        _estimates[key] = float(path.measured_half_width)
+    return _estimates[key]
 
 
 def coupling_strength(system: ContactSystem) -> float | None:
@@ -488,21 +634,20 @@ def coupling_strength(system: ContactSystem) -> float | None:
     return float(np.abs(system.B_tn[rows]).max() / np.abs(system.B_tt[rows]).max())
 
 
-def check_zone(result: Result, system: ContactSystem) -> None:
-    """The contact must stay inside the potential zone: the end nodes must be separated."""
-    contact = result.p_n < 0.0
-    if contact[0] or contact[-1]:
-        raise ZoneError(
-            "the contact reaches the edge of the potential contact zone, so the answer is wrong",
-            residual=result.residual,
-            iterations=result.iterations,
-            cause="discretization.zone is too small for this load; enlarge it "
-            f"(contact covers x = {result.x[contact].min():.4g} .. {result.x[contact].max():.4g}, "
-            f"zone {result.x[0]:.4g} .. {result.x[-1]:.4g})",
-        )
-
-
-def _assemble(case, the_plan, system, state, stick, history, iterations, residual, converged) -> Result:
+def assemble(level: Level, history: list[dict], timings: dict, converged: bool = True) -> Result:
+    """The :class:`Result` of a solved level: arrays, loads, zones, references and provenance."""
+    case, the_plan, system, solution = level.case, level.plan, level.system, level.solution
+    iterations = level.iterations
+    effects = the_plan.effects
+    if level.origin:
+        effects = effects.with_influence_origin(level.origin)
+    strength = coupling_strength(system)
+    if strength is not None:
+        effects = effects.with_coupling_strength(strength)
+    state = solution.state
+    stick = solution.stick
+    if not effects.tangential and case.friction.mu > 0.0:
+        stick = state.p_n < 0.0  # p_t = 0, xi = 0: every contact node adheres
     w = system.weights
     p_n, p_t = state.p_n, state.p_t
     states = node_states(p_n, stick)
@@ -523,6 +668,11 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         ref_p0 = hertz.peak_pressure(load, ref_a)
     else:
         ref_a = ref_p0 = math.nan
+    strategies_run = []
+    for row in history:
+        name = f"{row.get('level', '')}: {row.get('strategy', '')}"
+        if name not in strategies_run:
+            strategies_run.append(name)
     attrs = {
         "format": "rolling_cli.result",
         "format_version": 1,
@@ -531,11 +681,16 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "title": case.title or "",
         "converged": converged,
         "iterations": int(iterations),
-        "residual": float(residual),
+        "residual": float(solution.evaluation.relative_residual),
+        "tolerance_applied": max(
+            [float(row["tolerance"]) for row in history if row.get("level") == level.kind and "tolerance" in row],
+            default=float(case.solver.tolerance),
+        ),
+        "strategies": "; ".join(strategies_run),
         "normal_load": load,
         "tangential_load": q,
         "q_over_mu_p": q / (mu * load) if mu > 0.0 and load > 0.0 else math.nan,
-        "creep": float(state.creep) if the_plan.effects.tangential else _free_creep(case),
+        "creep": float(state.creep) if effects.tangential else _free_creep(case),
         "overlap": float(overlap),
         "solved_overlap": float(state.overlap),
         "mu": mu,
@@ -555,13 +710,16 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "direction": case.rolling.direction,
         "influence": case.discretization.influence,
         "contact_elements": the_plan.grid.elements,
-        "effects": the_plan.effects.to_json(),
-        "coupling_strength": the_plan.coupling,
-        "effects_line": the_plan.effects.line(),
+        "effects": effects.to_json(),
+        "coupling_strength": strength or 0.0,
+        "effects_line": effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,
         "unit_line_force": case.units.line_force,
         "bodies": f"A: {a.kind}, B: {b.kind}",
+        "message": "",
+        "time_influence": timings["influence"],
+        "time_solve": timings["solve"],
     }
     reference = {}
     similar = (
@@ -594,3 +752,16 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
 def _free_creep(case: Case) -> float:
     kind, value = case.tangential.control()
     return value if kind == "creep" else 0.0
+
+
+__all__ = [
+    "Plan",
+    "plan",
+    "prepare",
+    "solve",
+    "assemble",
+    "build_contact_system",
+    "check_gross_sliding",
+    "estimate_half_width",
+    "StrategyFailed",
+]

@@ -42,9 +42,9 @@ from .case import Case, case_to_dict, case_to_toml, with_overrides
 from .case.validate import convert_scalar, field_metadata
 from .errors import CaseError, GrossSlidingError, RollingError
 from .io_hdf5 import atomic_h5, write_group
+from .path import CasePath
 from .references import carter
 from .result import utc_timestamp
-from .solver.newton import State
 
 FORMAT = "rolling_cli.sweep"
 FORMAT_VERSION = 1
@@ -161,7 +161,7 @@ def curve_spec(base: Case, kind: str, points: int) -> SweepSpec:
         raise CaseError(f"{base.source or 'case'}: friction.mu = 0: no creep-force curve without friction")
     if kind == "load":
         return SweepSpec(("tangential.q_over_mu_p",), (tuple(np.linspace(-0.99, 0.99, points)),))
-    the_plan = pipeline.plan(base)
+    the_plan = pipeline.measured_plan(base)
     full = carter.full_slip_creepage(the_plan.half_width, the_plan.radius, base.friction.mu)
     return SweepSpec(("tangential.creep",), (tuple(np.linspace(-1.5 * full, 1.5 * full, points)),))
 
@@ -212,19 +212,17 @@ class Record:
 
 
 def solve_chunk(chunk: list[tuple[int, dict, Case]], warm: bool, use_cache: bool) -> Iterator[Record]:
-    """Solve a chunk in order, sharing the contact system and warm-starting from the neighbour."""
-    system = None
-    previous: State | None = None
+    """Solve a chunk in order on one contact system, each case warm-started along a
+    :class:`~rolling_cli.path.CasePath` (the boundary secant of its two predecessors)."""
+    path = None
     for index, values, case in chunk:
         start_time = time.perf_counter()
         try:
-            if system is None:
-                system = pipeline.build_contact_system(case, pipeline.plan(case, use_cache=use_cache), use_cache)
-            result = pipeline.solve(case, start=previous if warm else None, system=system, use_cache=use_cache)
-            previous = State(result.p_n, result.p_t, result.solved_overlap, result.creep)
+            if path is None:
+                path = CasePath(pipeline.prepare(case, use_cache)[1], warm, use_cache)
+            result = path.solve(case, values)
             yield Record(index, values, result, "", time.perf_counter() - start_time)
         except (RollingError, GrossSlidingError) as err:
-            previous = None
             yield Record(index, values, None, str(err), time.perf_counter() - start_time)
 
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..references import carter, hertz
 from ..system import ContactSystem
-from .newton import State
+from .formulation import State
 
 
 def carter_ratio_for_creep(creep: float, full_slip_creep: float) -> float:

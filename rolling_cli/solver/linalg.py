@@ -10,10 +10,10 @@ go straight to double precision.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import scipy.linalg
-
-from ..errors import ConvergenceError
 
 #: Systems at least this large use the single-precision LU with refinement.
 MIXED_PRECISION_SIZE = 1200
@@ -21,13 +21,14 @@ _REFINE_STEPS = 8
 
 
 def _factor(matrix: np.ndarray) -> tuple:
-    lu = scipy.linalg.lu_factor(matrix, check_finite=False)
+    with warnings.catch_warnings():  # an exactly singular pivot is reported below, as an error
+        warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+        lu = scipy.linalg.lu_factor(matrix, check_finite=False)
     diag = np.abs(np.diag(lu[0]))
     if diag.size and not diag.min() > 1e-13 * diag.max():
-        raise ConvergenceError(
-            "singular Newton system",
-            cause="the contact or adhesion set is degenerate (for example no contact node, "
-            "or a gauge node in contact); the potential zone may be too small",
+        raise np.linalg.LinAlgError(
+            "singular Newton system: the contact or adhesion set is degenerate (for example no contact node, "
+            "or a gauge node in contact); the potential zone may be too small"
         )
     return lu
 

@@ -1,0 +1,144 @@
+"""Warm-started paths through neighbouring cases: sweeps and creep-force curves.
+
+A :class:`CasePath` solves cases one after the other on one contact system.
+Each case starts from the boundary-tracking secant prediction of its two
+predecessors (:func:`rolling_cli.solver.predictor.secant`) when the swept values
+lie on a line, else from its predecessor's solution or the closed-form cold
+start, whichever has the smaller residual. The path parameter is the distance
+along that line; when a case fails from its prediction, the continuation
+driver (:func:`rolling_cli.solver.continuation.follow`) halves the step by
+solving intermediate cases (numeric keys only) before it gives up.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import pipeline
+from .case import Case, with_overrides
+from .errors import RollingError
+from .result import Result
+from .solver import continuation, predictor
+from .solver.formulation import State
+from .system import ContactSystem
+
+
+def result_state(result: Result) -> State:
+    """The solver state of a converged result."""
+    return State(result.p_n, result.p_t, float(result.solved_overlap), float(result.creep))
+
+
+def result_zones(result: Result) -> predictor.Zones:
+    """Zone pattern and boundaries of a result (for the secant predictor)."""
+    labels = predictor.node_labels(result.p_n, result.p_t, result.state == 1)
+    return predictor.zones(result.x, labels, result.p_n, result.p_t, float(result.mu) * np.abs(result.p_n))
+
+
+class _CaseFailed(Exception):
+    def __init__(self, error: RollingError) -> None:
+        self.error = error
+        self.reason = str(error)
+        self.residual = getattr(error, "residual", None) or math.nan
+        super().__init__(self.reason)
+
+
+@dataclass
+class _Point:
+    values: dict
+    result: Result
+
+
+def _numeric(values: dict) -> np.ndarray | None:
+    if not values or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in values.values()):
+        return None
+    return np.array([float(v) for v in values.values()])
+
+
+class CasePath:
+    """Solve neighbouring cases on one contact system, each warm-started from its predecessors."""
+
+    def __init__(self, system: ContactSystem, warm: bool = True, use_cache: bool = True) -> None:
+        self.system = system
+        self.warm = warm
+        self.use_cache = use_cache
+        self.points: list[_Point] = []
+
+    def solve(self, case: Case, values: dict) -> Result:
+        """Solve ``case`` (with swept ``values``), extending the path; raises RollingError on failure."""
+        if not self.warm or not self.points:
+            result = pipeline.solve(case, system=self.system, use_cache=self.use_cache)
+        else:
+            result = self._follow(case, values)
+        self._extend(values, result)
+        return result
+
+    def _extend(self, values: dict, result: Result) -> None:
+        same_grid = result.x.shape == self.system.x.shape and bool(np.array_equal(result.x, self.system.x))
+        if not same_grid:  # the zone grew: neighbours on the old grid no longer predict this one
+            self.points = []
+            return
+        self.points = [*self.points[-1:], _Point(values, result)]
+
+    def _segment(self, values: dict) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """(direction from the last point to ``values``, and the previous step when collinear)."""
+        here = _numeric(values)
+        last = _numeric(self.points[-1].values)
+        if here is None or last is None or here.shape != last.shape:
+            return None, None
+        step = here - last
+        if len(self.points) < 2:
+            return step, None
+        before = _numeric(self.points[-2].values)
+        if before is None or before.shape != last.shape:
+            return step, None
+        previous = last - before
+        norm = np.linalg.norm(step) * np.linalg.norm(previous)
+        if norm == 0.0 or float(step @ previous) < (1.0 - 1e-9) * norm:
+            return step, None
+        return step, previous
+
+    def _follow(self, case: Case, values: dict) -> Result:
+        step, previous = self._segment(values)
+        last = self.points[-1]
+        mu = case.friction.mu
+        x = self.system.x
+        # parameter s along the segment: the last point at 0, the target at 1
+        points: list[tuple[float, Result]] = []
+        if previous is not None:
+            points.append((-float(np.linalg.norm(previous) / np.linalg.norm(step)), self.points[-2].result))
+        points.append((0.0, last.result))
+        keys = list(values)
+
+        def case_at(s: float) -> Case:
+            if s == 1.0 or step is None:
+                return case
+            base = _numeric(last.values)
+            return with_overrides(case, dict(zip(keys, (base + s * step).tolist(), strict=True)))
+
+        def predict(done, s):
+            (s1, r1) = done[-1]
+            if len(done) < 2:
+                return result_state(r1)
+            (s0, r0) = done[-2]
+            return predictor.secant(
+                x, s0, result_state(r0), result_zones(r0), s1, result_state(r1), result_zones(r1), s, mu
+            )
+
+        def solve_at(s, start):
+            try:
+                result = pipeline.solve(
+                    case_at(s), start=start, system=self.system, use_cache=self.use_cache, compare_start=len(points) < 2
+                )
+            except RollingError as err:
+                raise _CaseFailed(err) from None
+            return result, int(result.iterations)
+
+        control = continuation.StepControl(grow=1.0) if step is not None else None
+        try:
+            continuation.follow([1.0], solve_at, predict, points, failure=_CaseFailed, control=control)
+        except continuation.ContinuationFailed as err:
+            raise err.__cause__.error from None
+        return points[-1][1]

@@ -1,0 +1,530 @@
+"""The rolling contact problem as projection equations (paper eq. 28-39), in pure functions.
+
+At a creepage xi and an overlap the contact laws are the projections
+
+    F_n = p_n - min(0, p_n + r_n delta_n)                                    = 0   (eq. 28)
+    F_t = p_t - Proj_[-g, g](p_t - r_t s_t),  g = -mu min(0, p_n + r_n delta_n) = 0   (eq. 31)
+
+with the gap delta_n and the slip s_t the linear functions of
+:class:`~rolling_cli.system.ContactSystem` (eq. 33). A prescribed load P makes
+the overlap unknown, with the equation sum w p_n + P = 0; a prescribed
+tangential force makes the creepage unknown, with sum w p_t = Q_target.
+
+The generalised Jacobian (eq. 36-39) depends on each node's state:
+separation (p_n + r_n delta_n >= 0), adhesion (|p_t - r_t s_t| < g) or slip.
+Because the elastic rows are linear, the Newton step with the Jacobian of the
+current states is the exact solution of a linear system on the contact nodes
+only (:func:`newton_point`):
+
+* separation: p_n = p_t = 0;
+* contact: delta_n = 0;
+* adhesion: s_t = 0;  slip: p_t = sigma g = -mu sigma p_n, sigma = sgn(p_t - r_t s_t).
+
+Nothing in this module iterates. The node-state rules are small named
+functions (:func:`contact_by_projection`, :func:`contact_from_pressure`,
+:func:`adhesion_by_projection`, :func:`reversal_through_adhesion`,
+:func:`nearest_contact`, :func:`full_slip_safeguard`); the solver strategies
+choose which apply.
+
+Residuals are measured in units of the traction scales: the normal rows
+against s_n = max(max|p_n|, P / zone length), the tangential rows against
+s_t = mu s_n, so that a tolerance means the same for any penalty and any
+friction coefficient (a prescribed Q is met to tolerance * mu P however small
+mu is).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..system import ContactSystem
+from .linalg import solve_dense
+
+MODES = ("coupled", "normal", "tangential")
+
+
+@dataclass
+class State:
+    """An iterate: tractions p_n, p_t [stress], overlap [length] and creepage xi [-]."""
+
+    p_n: np.ndarray
+    p_t: np.ndarray
+    overlap: float
+    creep: float
+
+    def copy(self) -> State:
+        """An independent copy."""
+        return State(self.p_n.copy(), self.p_t.copy(), float(self.overlap), float(self.creep))
+
+    def pack(self) -> np.ndarray:
+        """The unknowns as one vector [p_n, p_t, overlap, creep] (mixed units)."""
+        return np.concatenate([self.p_n, self.p_t, [self.overlap, self.creep]])
+
+    @staticmethod
+    def unpack(x: np.ndarray) -> State:
+        """Inverse of :meth:`pack`."""
+        n = (x.size - 2) // 2
+        return State(x[:n].copy(), x[n : 2 * n].copy(), float(x[2 * n]), float(x[2 * n + 1]))
+
+
+@dataclass(frozen=True)
+class Problem:
+    """What is unknown in one solve.
+
+    ``mode``: one of :data:`MODES` (which tractions are unknown: both, p_n with
+    p_t held, p_t with p_n held); ``mu``: friction coefficient; ``load``: the
+    prescribed P [force/length] (the overlap is then unknown) or ``None`` (the
+    overlap is held at the state's value); ``force``: (kind, value) with kind
+    "load" (Q [force/length]), "q_over_p" or "q_over_mu_p" makes the creepage
+    unknown with the equation sum w p_t = Q_target, or ``None`` (creepage held).
+    """
+
+    system: ContactSystem
+    mode: str
+    mu: float
+    load: float | None = None
+    force: tuple[str, float] | None = None
+
+    def __post_init__(self) -> None:
+        if self.mode not in MODES:
+            raise ValueError(f"mode must be one of {MODES}, got {self.mode!r}")
+
+    @property
+    def normal(self) -> bool:
+        """True when p_n is unknown."""
+        return self.mode in ("coupled", "normal")
+
+    @property
+    def tangential(self) -> bool:
+        """True when p_t is unknown."""
+        return self.mode in ("coupled", "tangential")
+
+    @property
+    def overlap_unknown(self) -> bool:
+        """True when the overlap is an unknown (P prescribed and the normal problem solved)."""
+        return self.normal and self.load is not None
+
+    @property
+    def creep_unknown(self) -> bool:
+        """True when the creepage is an unknown (a tangential force prescribed)."""
+        return self.force is not None and self.tangential
+
+    def force_target(self, p_n: np.ndarray) -> tuple[float, np.ndarray | None]:
+        """Q_target [force/length] and, when it depends on p_n, its gradient d Q_target / d p_n."""
+        kind, value = self.force
+        if kind == "load":
+            return value, None
+        factor = value if kind == "q_over_p" else value * self.mu
+        if self.load is not None:
+            return factor * self.load, None
+        w = self.system.weights
+        return factor * float(-(w @ p_n)), -factor * w
+
+    def held(self, **changes) -> Problem:
+        """A copy with fields replaced (for example ``force=None`` to hold the creepage)."""
+        return dataclasses.replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class Scales:
+    """Traction scales of the residual rows [stress]: normal s_n and tangential s_t."""
+
+    normal: float
+    tangential: float
+
+
+def traction_scales(problem: Problem, state: State) -> Scales:
+    """s_n = max(max|p_n|, P / zone length) and s_t = mu s_n (s_n when frictionless) [stress]."""
+    system = problem.system
+    s_n = float(np.max(np.abs(state.p_n))) if state.p_n.size else 0.0
+    if problem.load is not None:
+        s_n = max(s_n, problem.load / system.zone_length)
+    if not s_n > 0.0:
+        s_n = 1.0
+    s_t = problem.mu * s_n if problem.mu > 0.0 else s_n
+    return Scales(s_n, s_t)
+
+
+@dataclass
+class Evaluation:
+    """Residual rows [stress] and node states at one iterate (``gap`` only when p_n is unknown,
+    ``slip`` only when p_t is)."""
+
+    F_n: np.ndarray
+    F_t: np.ndarray
+    F_load: float
+    F_force: float
+    contact: np.ndarray
+    stick: np.ndarray
+    sigma: np.ndarray
+    friction_bound: np.ndarray
+    gap: np.ndarray | None
+    slip: np.ndarray | None
+    scales: Scales
+    slip_margin: np.ndarray | None = None
+
+    @property
+    def merit(self) -> float:
+        """0.5 |F / s|^2, every row divided by its traction scale [-]."""
+        s_n, s_t = self.scales.normal, self.scales.tangential
+        return 0.5 * (
+            (float(self.F_n @ self.F_n) + self.F_load**2) / s_n**2
+            + (float(self.F_t @ self.F_t) + self.F_force**2) / s_t**2
+        )
+
+    @property
+    def relative_residual(self) -> float:
+        """max |F| / s over all rows [-]."""
+        s_n, s_t = self.scales.normal, self.scales.tangential
+        normal = max(float(np.max(np.abs(self.F_n), initial=0.0)), abs(self.F_load)) / s_n
+        tangential = max(float(np.max(np.abs(self.F_t), initial=0.0)), abs(self.F_force)) / s_t
+        return max(normal, tangential)
+
+    @property
+    def residual(self) -> float:
+        """The convergence measure of the generic Newton: :attr:`relative_residual`."""
+        return self.relative_residual
+
+
+#: A converged residual need not be below this multiple of the round-off floor.
+FLOOR_FACTOR = 10.0
+
+
+def roundoff_floor(problem: Problem, scales: Scales) -> float:
+    """The relative residual that round-off alone leaves [-]; a property of the system, not of an iterate.
+
+    A residual row is a penalty times a gap or a slip, each a sum over all nodes
+    (the log kernel does not decay), so its rounding error is about eps times
+    the row sum of the magnitudes: eps r_n (max_i sum_j |S_nn,ij| s_n + ... + max
+    gap0) / s_n for the normal rows, and likewise with B_tt, B_tn for the
+    tangential ones. (At a solution the overlap and the creepage balance these
+    terms, so they add nothing; taking them from an iterate would let a wild
+    iterate raise the floor.) It grows with the number of nodes (2e-14 at 60
+    nodes, 1e-11 at 3000 for the log kernel), so a tolerance below it cannot be
+    met however well Newton does.
+    """
+    system = problem.system
+    eps = np.finfo(float).eps
+    s_n, s_t = scales.normal, scales.tangential
+
+    def row_sum(matrix):
+        return float(np.abs(matrix).sum(axis=1).max()) if matrix is not None else 0.0
+
+    floor = 0.0
+    if problem.normal:
+        size = row_sum(system.S_nn) * s_n + row_sum(system.S_nt) * s_t + float(np.abs(system.gap0).max())
+        floor = eps * system.reference_penalty_n * size / s_n
+    if problem.tangential:
+        rows = np.ones(system.size, dtype=bool)
+        rows[system.gauge] = False
+        size = row_sum(system.B_tt[rows]) * s_t + row_sum(None if system.B_tn is None else system.B_tn[rows]) * s_n
+        floor = max(floor, eps * system.reference_penalty_t * size / s_t)
+    return floor
+
+
+# --- node-state rules -------------------------------------------------------------------------------
+
+
+def contact_by_projection(p_n: np.ndarray, gap: np.ndarray, r_n: float) -> np.ndarray:
+    """Contact where p_n + r_n delta_n < 0 (eq. 38-39)."""
+    return p_n + r_n * gap < 0.0
+
+
+def contact_from_pressure(p_n: np.ndarray) -> np.ndarray:
+    """Contact where p_n < 0: the limit r_n -> 0, for a first iterate whose gap comes from a
+    guessed overlap (and, with coupling, a guessed tangential traction): the pressure guess is
+    the more reliable of the two."""
+    return p_n < 0.0
+
+
+def adhesion_by_projection(lam_t: np.ndarray, bound: np.ndarray) -> np.ndarray:
+    """Adhesion where |p_t - r_t s_t| < g (eq. 39)."""
+    return np.abs(lam_t) < bound
+
+
+def reversal_through_adhesion(p_t: np.ndarray, lam_t: np.ndarray) -> np.ndarray:
+    """Nodes whose traction would reverse (p_t and p_t - r_t s_t of opposite signs) pass through
+    adhesion: with a large r_t such a node would otherwise jump to the opposite slip state and the
+    iteration oscillates. At a solution the slip opposes the traction, so no fixed point changes."""
+    return p_t * lam_t < 0.0
+
+
+def nearest_contact(p_n: np.ndarray, gap: np.ndarray, r_n: float) -> int:
+    """The node closest to contact (smallest p_n + r_n delta_n): taken as in contact when no node is,
+    else the normal system has no pressure unknown."""
+    return int(np.argmin(p_n + r_n * gap))
+
+
+def full_slip_safeguard(
+    contact: np.ndarray, margin: np.ndarray, bound: np.ndarray, weights: np.ndarray, force_gap: float
+) -> np.ndarray:
+    """Adhesion nodes for a full-slip iterate under force control.
+
+    Without an adhesion row the creepage column vanishes and the force-controlled
+    system is singular (PHYSICS.md trap). The slip nodes closest to adhesion
+    (smallest ``margin`` = |p_t - r_t s_t| - g) are taken as adhering, as many as
+    it takes for their friction capacity, sum 2 w g, to cover ``force_gap`` = |Q_target
+    - Q_full_slip| [force/length]; one node alone may be unable to, and the iteration
+    would return to the same state. Returns the boolean adhesion mask.
+    """
+    stick = np.zeros_like(contact)
+    count_contact = int(contact.sum())
+    if count_contact == 0:
+        return stick
+    order = np.argsort(np.where(contact, margin, np.inf))[:count_contact]
+    capacity = np.cumsum(2.0 * weights[order] * bound[order])
+    count = int(np.searchsorted(capacity, force_gap)) + 1
+    stick[order[: min(count, order.size)]] = True
+    return stick
+
+
+# --- residual and node states -----------------------------------------------------------------------
+
+
+def evaluate(problem: Problem, state: State, scales: Scales, cold: bool = False) -> Evaluation:
+    """Residual F and the node states at ``state`` (eq. 33 with delta and s eliminated).
+
+    ``cold=True`` reads the contact states from the pressure
+    (:func:`contact_from_pressure`), for a first iterate built from closed forms,
+    whose gap comes from a guessed overlap tilted through the coupling by a
+    guessed p_t. (The adhesion states keep r_t: a Carter guess sits exactly on
+    the friction bound in the slip zone, where the traction alone cannot tell
+    adhesion from slip; measured, reading them from the traction made 11 more of
+    838 strongly coupled random cases fail.) Node states (the Jacobian) use the
+    solver's penalties; the residual uses the automatic reference ones, so the
+    tolerance means the same whatever r.
+    """
+    system = problem.system
+    mu = problem.mu
+    gap = system.gap(state.p_n, state.p_t, state.overlap) if problem.normal else None
+    slip_t = system.slip(state.p_n, state.p_t, state.creep) if problem.tangential else None
+    if problem.normal:
+        lam_n = state.p_n + system.penalty_n * gap
+        contact = contact_from_pressure(state.p_n) if cold else lam_n < 0.0
+        bound = -mu * np.minimum(0.0, state.p_n if cold else lam_n)
+        lam_ref = state.p_n + system.reference_penalty_n * gap
+        F_n = state.p_n - np.minimum(0.0, lam_ref)
+        bound_ref = -mu * np.minimum(0.0, lam_ref)
+    else:
+        contact = contact_from_pressure(state.p_n)
+        F_n = np.zeros_like(state.p_n)
+        bound = bound_ref = -mu * np.minimum(0.0, state.p_n)
+    if problem.tangential:
+        lam_t = state.p_t - system.penalty_t * slip_t
+        stick = contact & (adhesion_by_projection(lam_t, bound) | reversal_through_adhesion(state.p_t, lam_t))
+        sigma = np.where(contact & ~stick, np.sign(lam_t), 0.0)
+        margin = np.abs(lam_t) - bound
+        F_t = state.p_t - np.clip(state.p_t - system.reference_penalty_t * slip_t, -bound_ref, bound_ref)
+    else:
+        stick = np.zeros_like(contact)
+        sigma = np.zeros_like(state.p_t)
+        F_t = np.zeros_like(state.p_t)
+        margin = None
+    F_load = 0.0
+    if problem.overlap_unknown:
+        F_load = (float(system.weights @ state.p_n) + problem.load) / system.zone_length
+    F_force = 0.0
+    if problem.creep_unknown:
+        target, _ = problem.force_target(state.p_n)
+        F_force = (float(system.weights @ state.p_t) - target) / system.zone_length
+    return Evaluation(F_n, F_t, F_load, F_force, contact, stick, sigma, bound, gap, slip_t, scales, margin)
+
+
+@dataclass(frozen=True)
+class NodeSets:
+    """Index sets of the Newton system: contact, adhesion and slip nodes, and sigma on slip nodes."""
+
+    contact: np.ndarray
+    stick: np.ndarray
+    slip: np.ndarray
+    sigma: np.ndarray
+
+
+def node_sets(problem: Problem, state: State, ev: Evaluation) -> NodeSets:
+    """Contact, adhesion and slip sets for the Jacobian, with :func:`nearest_contact` and
+    :func:`full_slip_safeguard` applied."""
+    system = problem.system
+    contact = ev.contact.copy()
+    if problem.normal and not contact.any():
+        contact[nearest_contact(state.p_n, ev.gap, system.penalty_n)] = True
+    stick = ev.stick & contact
+    if problem.creep_unknown and contact.any() and not stick.any():
+        target, _ = problem.force_target(state.p_n)
+        full_slip = float(system.weights @ (ev.sigma * ev.friction_bound))
+        stick = full_slip_safeguard(contact, ev.slip_margin, ev.friction_bound, system.weights, abs(target - full_slip))
+    slipping = contact & ~stick if problem.tangential else np.zeros_like(contact)
+    sigma = np.where(slipping, ev.sigma, 0.0)
+    return NodeSets(np.flatnonzero(contact), np.flatnonzero(stick), np.flatnonzero(slipping), sigma)
+
+
+# --- the reduced Newton system ------------------------------------------------------------------------
+
+
+def _index(idx: np.ndarray):
+    """A slice when the index set is one contiguous run (the usual contact or adhesion zone), else the
+    index array: slicing a block is a view, several times cheaper than a fancy-index gather."""
+    if idx.size and idx[-1] - idx[0] + 1 == idx.size:
+        return slice(int(idx[0]), int(idx[-1]) + 1)
+    return idx
+
+
+def _block(matrix: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """matrix[rows][:, cols] for index arrays."""
+    r, c = _index(rows), _index(cols)
+    if isinstance(r, slice) and isinstance(c, slice):
+        return matrix[r, c]
+    if isinstance(r, slice):
+        return matrix[r][:, c]
+    if isinstance(c, slice):
+        return matrix[r, c]
+    return matrix[np.ix_(r, c)]
+
+
+@dataclass
+class ReducedSystem:
+    """The linear system of the current node states, A z = rhs, and how z maps back to a state.
+
+    Unknowns z = [p_n on contact | p_t on adhesion | r_n overlap? | r_t creep?], all in
+    stress units; rows r_n delta_n = 0 (contact), r_t s_t = 0 (adhesion), the load and
+    the tangential force equations divided by the zone length. ``creep_column`` is
+    d rhs / d xi when the creepage is held (the sensitivity of the solution to xi).
+    """
+
+    matrix: np.ndarray
+    rhs: np.ndarray
+    sets: NodeSets
+    coef: np.ndarray | None
+    p_t_slip: np.ndarray | None
+    col_overlap: int | None
+    col_creep: int | None
+    creep_column: np.ndarray | None = None
+
+
+def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> ReducedSystem:
+    """Assemble the reduced Newton system of the node sets (see :class:`ReducedSystem`)."""
+    system = problem.system
+    mu = problem.mu
+    c_idx, st_idx, sl_idx, sigma = sets.contact, sets.stick, sets.slip, sets.sigma
+    r_n, r_t = system.penalty_n, system.penalty_t
+    lz = system.zone_length
+    w = system.weights
+    overlap_unknown = problem.overlap_unknown
+    creep_unknown = problem.creep_unknown
+    nc = c_idx.size if problem.normal else 0
+    ns = st_idx.size if problem.tangential else 0
+    size = nc + ns + overlap_unknown + creep_unknown
+    A = np.zeros((size, size), order="F")  # LAPACK layout: no copy before the LU
+    rhs = np.zeros(size)
+    rows_n = slice(0, nc)
+    rows_t = slice(nc, nc + ns)
+    k = nc + ns
+    col_overlap = k if overlap_unknown else None
+    k += overlap_unknown
+    col_creep = k if creep_unknown else None
+    creep_column = None
+
+    # p_t on slip nodes: coupled -> coef * p_n (unknown); tangential -> sigma g (known)
+    coef = -mu * sigma[c_idx] if problem.mode == "coupled" else None
+    p_t_slip = sigma[sl_idx] * ev.friction_bound[sl_idx] if problem.mode == "tangential" else None
+
+    if problem.normal:
+        a_nn = _block(system.S_nn, c_idx, c_idx)
+        if system.S_nt is not None and coef is not None:
+            a_nn = a_nn + _block(system.S_nt, c_idx, c_idx) * coef[None, :]
+        A[rows_n, :nc] = r_n * a_nn
+        fixed = system.gap0[c_idx] - (0.0 if overlap_unknown else state.overlap)
+        if system.S_nt is not None:
+            if problem.tangential:
+                A[rows_n, nc : nc + ns] = r_n * _block(system.S_nt, c_idx, st_idx)
+            else:
+                fixed = fixed + system.S_nt[c_idx] @ state.p_t
+        rhs[rows_n] = -r_n * fixed
+        if overlap_unknown:  # unknown r_n * overlap, in stress units like the tractions
+            A[rows_n, col_overlap] = -1.0
+            A[col_overlap, :nc] = w[c_idx] / lz
+            rhs[col_overlap] = -problem.load / lz
+    if problem.tangential:
+        A[rows_t, nc : nc + ns] = r_t * _block(system.B_tt, st_idx, st_idx)
+        e = system.creep_vector[st_idx]
+        fixed = np.zeros(ns) if creep_unknown else state.creep * e
+        if problem.normal:
+            a_tn = _block(system.B_tt, st_idx, c_idx) * coef[None, :]
+            if system.B_tn is not None:
+                a_tn = a_tn + _block(system.B_tn, st_idx, c_idx)
+            A[rows_t, :nc] = r_t * a_tn
+        else:
+            fixed = fixed + _block(system.B_tt, st_idx, sl_idx) @ p_t_slip
+            if system.B_tn is not None:
+                fixed = fixed + system.B_tn[st_idx] @ state.p_n
+        rhs[rows_t] = -r_t * fixed
+        if creep_unknown:  # unknown r_t * creep, in stress units like the tractions
+            A[rows_t, col_creep] = e
+            target, d_target = problem.force_target(state.p_n)
+            A[col_creep, nc : nc + ns] = w[st_idx] / lz
+            if problem.normal:
+                row = w[c_idx] * coef
+                if d_target is not None:
+                    row = row - d_target[c_idx]
+                A[col_creep, :nc] = row / lz
+                rhs[col_creep] = target / lz if d_target is None else 0.0
+            else:
+                rhs[col_creep] = (target - float(w[sl_idx] @ p_t_slip)) / lz
+        else:
+            creep_column = np.zeros(size)
+            creep_column[rows_t] = -r_t * e
+    return ReducedSystem(A, rhs, sets, coef, p_t_slip, col_overlap, col_creep, creep_column)
+
+
+def state_from_solution(problem: Problem, state: State, reduced: ReducedSystem, z: np.ndarray) -> State:
+    """The state whose unknowns are the reduced solution ``z`` (the others from ``state``)."""
+    sets = reduced.sets
+    nc = sets.contact.size if problem.normal else 0
+    ns = sets.stick.size if problem.tangential else 0
+    new = state.copy()
+    if problem.normal:
+        new.p_n = np.zeros_like(state.p_n)
+        new.p_n[sets.contact] = z[:nc]
+    if problem.tangential:
+        new.p_t = np.zeros_like(state.p_t)
+        new.p_t[sets.stick] = z[nc : nc + ns]
+        if reduced.coef is not None:
+            new.p_t[sets.slip] = reduced.coef[np.searchsorted(sets.contact, sets.slip)] * new.p_n[sets.slip]
+        else:
+            new.p_t[sets.slip] = reduced.p_t_slip
+    if reduced.col_overlap is not None:
+        new.overlap = float(z[reduced.col_overlap]) / problem.system.penalty_n
+    if reduced.col_creep is not None:
+        new.creep = float(z[reduced.col_creep]) / problem.system.penalty_t
+    return new
+
+
+def newton_point(problem: Problem, state: State, ev: Evaluation) -> State:
+    """The Newton point: the exact solution of the linear system of the current node states."""
+    reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
+    return state_from_solution(problem, state, reduced, solve_dense(reduced.matrix, reduced.rhs))
+
+
+def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
+    """dQ/dxi [force/length] at fixed node states, from the reduced Jacobian (creepage held).
+
+    The reduced system is linear in xi with d rhs / d xi = ``creep_column``; the
+    derivative of the solution gives dp_t/dxi on the adhesion nodes, and on slip
+    nodes through p_n (coupled mode). Returns sum w dp_t/dxi.
+    """
+    if problem.creep_unknown or not problem.tangential:
+        raise ValueError("the creep sensitivity needs a tangential problem with the creepage held")
+    sets = node_sets(problem, state, ev)
+    reduced = reduced_system(problem, state, sets, ev)
+    dz = solve_dense(reduced.matrix, reduced.creep_column)
+    nc = sets.contact.size if problem.normal else 0
+    ns = sets.stick.size
+    w = problem.system.weights
+    d_q = float(w[sets.stick] @ dz[nc : nc + ns])
+    if reduced.coef is not None:
+        dp_n = np.zeros_like(state.p_n)
+        dp_n[sets.contact] = dz[:nc]
+        d_q += float(w[sets.slip] @ (reduced.coef[np.searchsorted(sets.contact, sets.slip)] * dp_n[sets.slip]))
+    return d_q

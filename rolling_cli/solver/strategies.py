@@ -1,0 +1,501 @@
+"""Solution strategies: plain callables ``strategy(task, start, budget, cold=False) -> Solution``.
+
+A strategy solves a :class:`Task` from a start state, taking its Newton
+iterations from the shared :class:`~rolling_cli.solver.budget.Budget`. One that
+fails raises :class:`StrategyFailed` with the best state it reached; it never
+spends the budget silently. :func:`first_success` combines strategies: the
+first that succeeds wins, and each next one starts from the best state so far.
+
+* :func:`direct`: Newton on the task as it stands: the normal problem;
+  decoupled (the normal problem, then the tangential one with p_n held); or the
+  coupled system (eq. 33). Prescribed P and Q make the overlap and the
+  creepage unknowns of the same Newton system.
+* :func:`settled`: coupled, from a cold start: the normal problem with p_t = 0
+  first (a guessed p_t would tilt the gap through the coupling and misplace the
+  contact), then the coupled system.
+* :func:`coupling_path`: continuation in the coupling scale kappa (the cross
+  blocks S_nt, B_tn times kappa) from the exactly decoupled problem at
+  kappa = 0 to kappa = 1 (:mod:`rolling_cli.solver.continuation`).
+* :func:`creep_root`: force control as a scalar root of Q(xi) = Q_target, by a
+  safeguarded Newton iteration on xi with dQ/dxi from the reduced Jacobian and
+  creep-controlled inner solves; it stops on the force residual.
+
+Each takes its Newton globalisation as a value (:class:`~rolling_cli.solver.newton.Watchdog`
+or :class:`~rolling_cli.solver.newton.Armijo`); :func:`default` picks the
+combination for a task.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..system import ContactSystem
+from . import continuation, formulation, predictor
+from .budget import Budget, BudgetExhausted
+from .formulation import Evaluation, Problem, State
+from .newton import Armijo, NewtonFailure, NonlinearSystem, Watchdog, newton
+
+TANGENTIAL_KINDS = ("creep", "load", "q_over_p", "q_over_mu_p", "none")
+
+
+@dataclass(frozen=True)
+class Controls:
+    """What is prescribed.
+
+    ``load`` P [force/length] or ``overlap`` [length] (exactly one);
+    ``tangential`` is (kind, value) with kind in :data:`TANGENTIAL_KINDS`:
+    creepage xi [-], Q [force/length], Q/P [-], Q/(mu P) [-], or "none" (p_t = 0).
+    """
+
+    load: float | None
+    overlap: float | None
+    tangential: tuple[str, float]
+
+    @property
+    def force(self) -> tuple[str, float] | None:
+        """The prescribed tangential force, or None (creepage prescribed or nothing tangential)."""
+        kind, value = self.tangential
+        return None if kind in ("creep", "none") else (kind, value)
+
+
+@dataclass(frozen=True)
+class Task:
+    """One steady rolling solve: the contact system, mu, the controls, the relative tolerance and
+    the formulation the effects call for ("coupled", "decoupled" or "normal")."""
+
+    system: ContactSystem
+    mu: float
+    controls: Controls
+    tolerance: float
+    formulation: str
+
+    def problem(self, mode: str, force: bool = True, system: ContactSystem | None = None) -> Problem:
+        """The :class:`Problem` of one stage (``force=False`` holds the creepage)."""
+        return Problem(system or self.system, mode, self.mu, self.controls.load, self.controls.force if force else None)
+
+    @property
+    def full_mode(self) -> str:
+        """The mode whose residual measures the whole task."""
+        return {"coupled": "coupled", "normal": "normal"}.get(self.formulation, "tangential")
+
+    def prepared(self, state: State) -> State:
+        """``state`` with the prescribed overlap or creepage imposed."""
+        out = state.copy()
+        if self.controls.overlap is not None:
+            out.overlap = self.controls.overlap
+        kind, value = self.controls.tangential
+        if kind == "creep":
+            out.creep = value
+        elif kind == "none":
+            out.creep = 0.0
+        return out
+
+
+@dataclass
+class Solution:
+    """A converged state, its evaluation (node states, residual) and the stage problem it solved."""
+
+    state: State
+    evaluation: Evaluation
+    problem: Problem
+
+    @property
+    def stick(self) -> np.ndarray:
+        """Adhesion nodes."""
+        return self.evaluation.stick
+
+    def zones(self) -> predictor.Zones:
+        """Zone pattern and boundaries (for the continuation predictor)."""
+        s = self.state
+        labels = predictor.node_labels(s.p_n, s.p_t, self.evaluation.stick)
+        return predictor.zones(self.problem.system.x, labels, s.p_n, s.p_t, self.problem.mu * np.abs(s.p_n))
+
+
+class StrategyFailed(Exception):
+    """A strategy did not converge. ``best`` is the best state it reached (or None), ``residual``
+    its relative residual; ``stage`` names where it failed; ``causes`` collects the failures
+    of combined strategies."""
+
+    def __init__(
+        self, strategy: str, stage: str, reason: str, best: State | None, residual: float, causes: list | None = None
+    ) -> None:
+        self.strategy = strategy
+        self.stage = stage
+        self.reason = reason
+        self.best = best
+        self.residual = residual
+        self.causes = causes or []
+        super().__init__(f"{strategy} ({stage}): {reason}, relative residual {residual:.3e}")
+
+
+Strategy = Callable[..., Solution]
+
+
+# --- one Newton run on one problem ---------------------------------------------------------------
+
+
+def _nonlinear(problem: Problem, scales: formulation.Scales) -> NonlinearSystem:
+    def evaluate(x):
+        return formulation.evaluate(problem, State.unpack(x), scales)
+
+    def step(x, ev):
+        return formulation.newton_point(problem, State.unpack(x), ev).pack()
+
+    def describe(x, ev):
+        return {
+            "creep": float(x[-1]),
+            "overlap": float(x[-2]),
+            "contact": int(ev.contact.sum()),
+            "stick": int(ev.stick.sum()),
+            "edge": bool(ev.contact[0] or ev.contact[-1]),
+        }
+
+    return NonlinearSystem(evaluate, step, describe)
+
+
+def run_newton(
+    problem: Problem,
+    start: State,
+    tolerance: float,
+    budget: Budget,
+    strategy: str,
+    stage: str,
+    cold: bool = False,
+    globalisation=None,
+) -> Solution:
+    """Newton on one stage problem to the tolerance, or to :data:`~rolling_cli.solver.formulation.FLOOR_FACTOR`
+    times the round-off floor where that is larger (the history's "tolerance" column says which);
+    raises :class:`StrategyFailed` with the best state."""
+    scales = formulation.traction_scales(problem, start)
+    system = _nonlinear(problem, scales)
+    first = formulation.evaluate(problem, start, scales, cold=True) if cold else None
+    applied = max(tolerance, formulation.FLOOR_FACTOR * formulation.roundoff_floor(problem, scales))
+    label = {"strategy": strategy, "stage": stage, "tolerance": applied}
+    try:
+        x, ev = newton(
+            system,
+            start.pack(),
+            tolerance=applied,
+            budget=budget,
+            globalisation=globalisation or Watchdog(),
+            first=first,
+            label=label,
+        )
+    except NewtonFailure as err:
+        raise StrategyFailed(strategy, stage, err.reason, State.unpack(err.best_x), err.best.residual) from None
+    return Solution(State.unpack(x), ev, problem)
+
+
+def _clip_to_friction(state: State, p_t: np.ndarray, mu: float) -> State:
+    out = state.copy()
+    out.p_t = np.clip(p_t, mu * state.p_n, -mu * state.p_n)
+    return out
+
+
+# --- strategies ------------------------------------------------------------------------------------
+
+
+def direct(
+    task: Task, start: State, budget: Budget, cold: bool = False, globalisation=None, name: str = "direct"
+) -> Solution:
+    """Newton on the task's own formulation (see the module docstring)."""
+    state = task.prepared(start)
+    tol = task.tolerance
+    if task.formulation == "coupled":
+        return run_newton(task.problem("coupled"), state, tol, budget, name, "coupled", cold, globalisation)
+    held_p_t = state.p_t
+    state.p_t = np.zeros_like(held_p_t)
+    normal = run_newton(task.problem("normal"), state, tol, budget, name, "normal", cold, globalisation)
+    if task.formulation == "normal" or task.controls.tangential[0] == "none":
+        return normal
+    state = _clip_to_friction(normal.state, held_p_t, task.mu)
+    return _tangential(task, state, budget, name, globalisation)
+
+
+def _tangential(task: Task, state: State, budget: Budget, strategy: str, globalisation=None) -> Solution:
+    """The tangential stage of a decoupled task (p_n held): Newton with the creepage unknown, and
+    the scalar root on the creepage if that fails."""
+    problem = task.problem("tangential")
+    try:
+        return run_newton(problem, state, task.tolerance, budget, strategy, "tangential", False, globalisation)
+    except StrategyFailed as err:
+        if problem.force is None or budget.exhausted:
+            raise
+        best = err.best if err.best is not None else state
+        return _creep_root(problem, task, best, budget, globalisation)
+
+
+def settled(task: Task, start: State, budget: Budget, cold: bool = False, globalisation=None) -> Solution:
+    """Coupled: the normal problem with p_t = 0 first, then the coupled system (module docstring)."""
+    state = task.prepared(start)
+    guess = state.p_t
+    state.p_t = np.zeros_like(guess)
+    normal = run_newton(
+        task.problem("normal"), state, task.tolerance, budget, "settled", "normal (p_t = 0)", cold, globalisation
+    )
+    state = _clip_to_friction(normal.state, guess, task.mu)
+    return run_newton(
+        task.problem("coupled"), state, task.tolerance, budget, "settled", "coupled", False, globalisation
+    )
+
+
+def scaled_coupling(system: ContactSystem, kappa: float) -> ContactSystem:
+    """The contact system with its normal-tangential cross blocks times ``kappa`` (None at 0)."""
+    if system.S_nt is None:
+        return system
+    if kappa == 0.0:
+        return dataclasses.replace(system, S_nt=None, B_tn=None, gauge_tn=None)
+    return dataclasses.replace(
+        system, S_nt=kappa * system.S_nt, B_tn=kappa * system.B_tn, gauge_tn=kappa * system.gauge_tn
+    )
+
+
+def coupling_path(task: Task, start: State, budget: Budget, cold: bool = False, globalisation=None) -> Solution:
+    """Continuation in the coupling scale kappa from 0 (decoupled, solved exactly) to 1."""
+    if task.system.S_nt is None:
+        return direct(task, start, budget, cold, globalisation)
+    decoupled = dataclasses.replace(task, system=scaled_coupling(task.system, 0.0), formulation="decoupled")
+    try:
+        first = direct(decoupled, start, budget, cold, globalisation, name="coupling path")
+    except StrategyFailed as err:
+        raise StrategyFailed("coupling path", "kappa = 0", err.reason, err.best, err.residual) from None
+
+    def solve_at(kappa: float, guess: State) -> tuple[Solution, int]:
+        scaled = dataclasses.replace(task, system=scaled_coupling(task.system, kappa))
+        before = budget.taken
+        solution = run_newton(
+            scaled.problem("coupled"),
+            task.prepared(guess),
+            task.tolerance,
+            budget,
+            "coupling path",
+            f"coupled, kappa = {kappa:.4g}",
+            False,
+            globalisation,
+        )
+        return solution, budget.taken - before
+
+    points = [(0.0, first)]
+    try:
+        continuation.follow(
+            [1.0],
+            solve_at,
+            _predict(task.system.x, task.mu),
+            points,
+            failure=StrategyFailed,
+            control=continuation.StepControl(),
+            budget=budget,
+        )
+    except continuation.ContinuationFailed as err:
+        best = err.best.state if err.best is not None else None
+        raise StrategyFailed("coupling path", f"kappa = {err.parameter:.4g}", err.reason, best, err.residual) from None
+    return points[-1][1]
+
+
+def _predict(x: np.ndarray, mu: float):
+    """The boundary-secant predictor over points [(s, Solution)] (a copy from one point)."""
+
+    def predict(points, s):
+        if len(points) < 2:
+            return points[-1][1].state.copy()
+        (s0, sol0), (s1, sol1) = points[-2], points[-1]
+        return predictor.secant(x, s0, sol0.state, sol0.zones(), s1, sol1.state, sol1.zones(), s, mu)
+
+    return predict
+
+
+def creep_root(task: Task, start: State, budget: Budget, cold: bool = False, globalisation=None) -> Solution:
+    """Force control by a safeguarded scalar root on the creepage (module docstring)."""
+    mode = task.full_mode
+    problem = task.problem(mode)
+    if problem.force is None:
+        return direct(task, start, budget, cold, globalisation)
+    state = task.prepared(start)
+    if mode == "tangential":
+        state.p_t = np.zeros_like(state.p_t)
+        normal = run_newton(
+            task.problem("normal"), state, task.tolerance, budget, "creep root", "normal", cold, globalisation
+        )
+        state = _clip_to_friction(normal.state, start.p_t, task.mu)
+    return _creep_root(problem, task, state, budget, globalisation)
+
+
+#: The creep root does not look beyond this creepage (100 %: the bodies no longer roll on each other).
+MAX_CREEP = 1.0
+
+
+def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, globalisation=None) -> Solution:
+    """Safeguarded Newton on f(xi) = (Q(xi) - Q_target) / (L s_t), Q(xi) from creep-controlled solves.
+
+    Q is continuous and non-increasing in xi. A bracket [lo, hi] with f(lo) > 0 >
+    f(hi) is kept once found; a Newton step (dQ/dxi from the reduced Jacobian of
+    the converged inner solve) that leaves it, or a derivative that does not
+    decrease, is replaced by bisection; before a bracket exists the step expands
+    geometrically in the direction of the root. Stops when the force residual is
+    below the tolerance (the inner solve converged too); raises when the bracket
+    closes to round-off without that (Q jumps) or the budget is spent.
+    """
+    held = problem.held(force=None)
+    system = problem.system
+    lz = system.zone_length
+    name = "creep root"
+    lo = hi = None
+    current = state.copy()
+    step = None
+    last_f = None
+    solved: list[tuple[float, Solution]] = []
+    predict = _predict(system.x, task.mu)
+    for _ in range(200):
+        xi = current.creep
+        if solved:  # start from the boundary secant of the two solved creepages nearest to xi
+            near = sorted(solved, key=lambda point: abs(point[0] - xi))[:2]
+            near.sort(key=lambda point: abs(point[0] - xi), reverse=True)
+            if len(near) == 2 and near[0][0] == near[1][0]:
+                near = near[1:]
+            current = predict(near, xi)
+            current.creep = xi
+        inner = run_newton(
+            held, current, task.tolerance, budget, name, f"creepage held, xi = {xi:.6e}", False, globalisation
+        )
+        solved.append((xi, inner))
+        current = inner.state
+        target, _ = problem.force_target(current.p_n)
+        q = float(system.weights @ current.p_t)
+        scale = formulation.traction_scales(problem, current).tangential
+        f = (q - target) / (lz * scale)
+        budget.history[-1]["force_residual"] = f
+        xi = current.creep
+        if abs(f) <= budget.history[-1]["tolerance"]:
+            ev = formulation.evaluate(problem, current, formulation.traction_scales(problem, current))
+            return Solution(current, ev, problem)
+        if f > 0.0:
+            lo = xi if lo is None else max(lo, xi)
+        else:
+            hi = xi if hi is None else min(hi, xi)
+        try:
+            budget.take()
+            d_q = formulation.creep_sensitivity(held, current, inner.evaluation)
+        except BudgetExhausted:
+            raise StrategyFailed(name, "budget", "budget", current, abs(f)) from None
+        except np.linalg.LinAlgError:  # a singular sensitivity system: bracketing alone
+            d_q = 0.0
+        derivative = d_q / (lz * scale)
+        proposal = xi - f / derivative if derivative < 0.0 else None
+        if lo is not None and hi is not None:
+            if hi - lo <= 4.0 * np.finfo(float).eps * max(abs(lo), abs(hi)):
+                raise StrategyFailed(
+                    name,
+                    f"xi = {xi:.6e}",
+                    "Q(xi) jumps across the target: the force cannot be matched on this mesh (refine it)",
+                    current,
+                    abs(f),
+                )
+            if proposal is None or not lo < proposal < hi:
+                proposal = 0.5 * (lo + hi)
+        elif proposal is None:
+            elastic = np.abs(system.slip(current.p_n, current.p_t, 0.0)[current.p_n < 0.0])
+            step = step * 4.0 if step else 1e-3 * max(abs(xi), float(elastic.max()) if elastic.size else 0.0, 1e-12)
+            proposal = xi + step if f > 0.0 else xi - step
+        if last_f is not None and abs(f) >= abs(last_f) and lo is not None and hi is not None:
+            proposal = 0.5 * (lo + hi)  # no progress: bisect
+        if abs(proposal) > MAX_CREEP:
+            raise StrategyFailed(
+                name,
+                f"xi = {xi:.6e}",
+                f"no creepage up to |xi| = {MAX_CREEP:g} carries the force (full slip below the target)",
+                current,
+                abs(f),
+            )
+        last_f = f
+        current = current.copy()
+        current.creep = float(proposal)
+    raise StrategyFailed(name, "root", "no convergence in 200 creepage updates", current, abs(last_f or np.inf))
+
+
+def first_success(*strategies: Strategy, name: str = "first success") -> Strategy:
+    """The first strategy that succeeds; each next one starts from the best state so far
+    (least merit of the task's own residual)."""
+
+    def combined(task: Task, start: State, budget: Budget, cold: bool = False) -> Solution:
+        best, best_merit = start, None  # best_merit: computed on the first failure
+        failures: list[StrategyFailed] = []
+        for strategy in strategies:
+            try:
+                return strategy(task, best, budget, cold=cold)
+            except StrategyFailed as err:
+                failures.append(err)
+                if budget.exhausted:
+                    break
+                if err.best is not None:
+                    reached = merit(task, err.best)
+                    if best_merit is None:
+                        best_merit = merit(task, best)
+                    if reached < best_merit:
+                        best, best_merit, cold = err.best, reached, False
+        worst = failures[-1]
+        raise StrategyFailed(
+            name,
+            worst.stage,
+            "; ".join(str(f) for f in failures),
+            best,
+            min(f.residual for f in failures),
+            causes=failures,
+        )
+
+    return combined
+
+
+def merit(task: Task, state: State) -> float:
+    """The merit of ``state`` for the whole task (its scaled residual norm), to rank starts."""
+    problem = task.problem(task.full_mode)
+    prepared = task.prepared(state)
+    return formulation.evaluate(problem, prepared, formulation.traction_scales(problem, prepared)).merit
+
+
+#: Globalisations as values: the watchdog for first attempts (it lets an active-set step raise the
+#: merit, which warm starts and layers need), the monotone line search for the fallbacks (robust
+#: where the normal-tangential coupling is strong: benchmarks/RESULTS.md, robustness). A settled
+#: start gets a longer patience: on a thin incompressible layer near full slip the watchdog needed
+#: three of its cycles (33 iterations) to find its way, where 20 stopped it.
+WATCHDOG = Watchdog()
+PATIENT_WATCHDOG = Watchdog(patience=40)
+MONOTONE = Armijo()
+
+
+def _with(strategy, globalisation, name: str | None = None) -> Strategy:
+    """``strategy`` with a fixed globalisation (and history name)."""
+    kwargs = {"globalisation": globalisation}
+    if name is not None:
+        kwargs["name"] = name
+
+    def bound(task: Task, start: State, budget: Budget, cold: bool = False) -> Solution:
+        return strategy(task, start, budget, cold=cold, **kwargs)
+
+    return bound
+
+
+def default(task: Task, settle: bool = False) -> Strategy:
+    """The strategy for a task.
+
+    Newton on the task's own formulation with the watchdog first (for a coupled
+    task whose start has only an approximate pressure, ``settle``, :func:`settled`
+    instead: a pressure interpolated from a coarse pre-solve is settled on the
+    task's grid before friction enters); then, with the monotone line search, the
+    same again, and for coupled tasks (force control) :func:`creep_root`,
+    :func:`settled` and :func:`coupling_path`. Decoupled tasks fall back to the
+    creepage root inside their tangential stage. The order is measured
+    (benchmarks/RESULTS.md, robustness): the creepage root is what strongly
+    coupled low-friction cases near full slip need, the monotone line search what
+    the strongly coupled high-friction corner needs.
+    """
+    first = _with(settled, PATIENT_WATCHDOG) if settle and task.formulation == "coupled" else _with(direct, WATCHDOG)
+    chain = [first, _with(direct, MONOTONE, "direct, monotone")]
+    if task.formulation == "coupled":
+        if task.controls.force is not None:
+            chain.append(_with(creep_root, MONOTONE))
+        chain += [_with(settled, MONOTONE), _with(coupling_path, MONOTONE)]
+    return first_success(*chain, name=task.formulation)
