@@ -304,7 +304,7 @@ def _sequenced_start(case: Case, the_plan: Plan, system: ContactSystem) -> tuple
     """
     disc = case.discretization
     if (
-        disc.influence != "half-plane"
+        the_plan.effects.influence != "half-plane"
         or disc.contact_elements < SEQUENCING_ELEMENTS
         or the_plan.effects.strategy != "coupled"
     ):
@@ -553,7 +553,7 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "traction_scale": float(np.max(np.abs(p_n))) if p_n.size else 0.0,
         "node_spacing": system.spacing,
         "direction": case.rolling.direction,
-        "influence": case.discretization.influence,
+        "influence": the_plan.effects.influence,
         "contact_elements": the_plan.grid.elements,
         "effects": the_plan.effects.to_json(),
         "coupling_strength": the_plan.coupling,
