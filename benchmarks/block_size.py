@@ -73,18 +73,9 @@ def semicircle(radius: float, zone_edges: np.ndarray, growth: float = 1.4) -> Bo
     contact = np.arange(first, len(b.nodes))
     left = graded_edges(float(zone_edges[0]), -radius, h, growth, big)
     b.segment(np.column_stack([left, np.zeros(left.size)]), fixed=False)
-    nodes = np.array(b.nodes)
-    far = np.zeros(len(nodes), dtype=bool)
+    far = np.zeros(len(b.nodes), dtype=bool)
     far[arc] = True
-    return BoundaryMesh(
-        geometry=_frozen(np.array(b.geometry)),
-        local=_frozen(np.array(b.local)),
-        connectivity=_frozen(np.array(b.connectivity, dtype=np.int64)),
-        nodes=_frozen(nodes),
-        fixed=_frozen(np.array(b.fixed, dtype=bool)),
-        far=_frozen(far),
-        contact=_frozen(contact[np.argsort(nodes[contact, 0])]),
-    )
+    return b.mesh(far, contact)
 
 
 def half_space_traction(points: np.ndarray, normals: np.ndarray) -> np.ndarray:

@@ -107,7 +107,7 @@ def _prepare(inputs: dict) -> tuple[bem.Condensed, ContactGrid]:
 
 
 def _compute_bem(inputs: dict) -> Compliance:
-    return bem.compliance(*_prepare(inputs))
+    return bem.compliance(*_prepare(inputs), consume=True)
 
 
 @functools.lru_cache(maxsize=2)

@@ -9,22 +9,21 @@ compressive load P has F_z = P) gives the purely radial stress
     sigma_rr = -(2 / pi) (F_z cos(theta) + F_x sin(theta)) / r.
 
 With k = 2 (1 - nu^2) / (pi E) and c = 2 nu (1 + nu) / (pi E) the plane-strain
-displacements are (integrated from Hooke's law, rigid terms chosen below)
+displacements (integrated from Hooke's law) are, in polar components,
 
     F_z:  u_r = -k cos(theta) ln(r/D) - (k - c)/2 theta sin(theta)
           u_t =  k sin(theta) ln(r/D) + (k + c)/2 sin(theta) - (k - c)/2 theta cos(theta)
     F_x:  u_r = -k sin(theta) ln(r/D) + (k - c)/2 theta cos(theta)
           u_t = -k cos(theta) ln(r/D) - (k + c)/2 cos(theta) - (k - c)/2 theta sin(theta)
-                + (k + c)/2 e_x . (the translation below)
 
-The rigid-body terms are fixed so that the displacement vanishes at the point
-(0, D), at depth D below the force (the reference of the normal approach), and
-the rotation vanishes at infinity (the fields are bounded in theta and
-homogeneous of degree 0 in r, as the closed-form half-plane kernels of
-:mod:`rolling_cli.influence.halfplane`). On the surface they reduce to
-Johnson's (Contact Mechanics, 2.2): u_x = -(1 - 2 nu)(1 + nu)/(2E) F_z sgn(x)
-- k F_x ln(|x|/D) + const, u_z = -k F_z ln(|x|/D) + (1 - 2 nu)(1 + nu)/(2E) F_x
-sgn(x) + const.
+plus, for F_x, the translation u_x = (k + c)/2. These rigid-body terms make
+the displacement vanish at the point (0, D), at depth D below the force (the
+reference of the normal approach); the rotation vanishes at infinity (the
+fields are bounded in theta and homogeneous of degree 0 in r, as the
+closed-form half-plane kernels of :mod:`rolling_cli.influence.halfplane`).
+On the surface they reduce to Johnson's (Contact Mechanics, 2.2):
+u_x = -(1 - 2 nu)(1 + nu)/(2E) F_z sgn(x) - k F_x ln|x| + const and
+u_z = -k F_z ln|x| + (1 - 2 nu)(1 + nu)/(2E) F_x sgn(x) + const.
 """
 
 from __future__ import annotations

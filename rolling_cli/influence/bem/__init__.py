@@ -58,10 +58,14 @@ def prepare_body(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: f
     return prepare(mesh, H, G, grid.weights, far)
 
 
-def compliance(body: Condensed, grid: ContactGrid) -> Compliance:
-    """Condensed compliance of a prepared BEM body on the contact grid [length/stress]."""
+def compliance(body: Condensed, grid: ContactGrid, consume: bool = False) -> Compliance:
+    """Condensed compliance of a prepared BEM body on the contact grid [length/stress].
+
+    ``consume=True`` reuses the body's right-hand-side storage (the body
+    cannot be used again): no copy of the (2N, 2 n_c) right-hand sides.
+    """
     nc = grid.size
-    c4 = contact_compliance(body).reshape(nc, 2, nc, 2)  # (node i, u_x/u_y, node j, t_x/t_y)
+    c4 = contact_compliance(body, consume).reshape(nc, 2, nc, 2)  # (node i, u_x/u_y, node j, t_x/t_y)
     return Compliance(
         x=grid.x,
         weights=grid.weights,
@@ -75,7 +79,7 @@ def compliance(body: Condensed, grid: ContactGrid) -> Compliance:
 
 def condensed(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float) -> Compliance:
     """Condensed compliance of a BEM body on the contact grid [length/stress]."""
-    return compliance(prepare_body(mesh, grid, young, poisson), grid)
+    return compliance(prepare_body(mesh, grid, young, poisson), grid, consume=True)
 
 
 def boundary_solution(body: Condensed, p_n: np.ndarray, p_t: np.ndarray) -> tuple[BoundaryMesh, np.ndarray, np.ndarray]:

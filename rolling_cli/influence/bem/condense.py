@@ -57,15 +57,14 @@ def resultant_weights(weights: np.ndarray) -> np.ndarray:
 class Condensed:
     """A factorised BEM body, ready for load cases (plain arrays, read-only use).
 
-    ``lu`` the LU of A; ``rhs_contact`` = B E_c (2N, 2 n_c) and ``rhs_far`` =
-    B V (2N, 2) the right-hand sides per unit contact traction and per unit
-    resultant force; ``far_values`` = V (2N, 2); ``resultant`` = W (2, 2 n_c).
+    ``lu`` the LU of A; ``rhs`` = [B E_c | B V] (2N, 2 n_c + 2), column-major:
+    the right-hand sides per unit contact traction and per unit resultant
+    force; ``far_values`` = V (2N, 2); ``resultant`` = W (2, 2 n_c).
     """
 
     mesh: BoundaryMesh
     lu: tuple
-    rhs_contact: np.ndarray
-    rhs_far: np.ndarray
+    rhs: np.ndarray
     far_values: np.ndarray
     resultant: np.ndarray
 
@@ -79,22 +78,23 @@ def prepare(mesh: BoundaryMesh, H: np.ndarray, G: np.ndarray, weights: np.ndarra
     """
     A, B = boundary_system(mesh, H, G)
     dofs = contact_dofs(mesh)
-    rhs_contact = np.asfortranarray(B[:, dofs])
-    rhs_far = B @ far_values
-    return Condensed(mesh, factorise(A), rhs_contact, rhs_far, far_values, resultant_weights(weights))
+    rhs = np.empty((B.shape[0], dofs.size + 2), order="F")
+    rhs[:, : dofs.size] = B[:, dofs]
+    np.matmul(B, far_values, out=rhs[:, dofs.size :])
+    return Condensed(mesh, factorise(A), rhs, far_values, resultant_weights(weights))
 
 
-def contact_compliance(body: Condensed) -> np.ndarray:
+def contact_compliance(body: Condensed, consume: bool = False) -> np.ndarray:
     """Contact displacements per unit contact nodal traction, (2 n_c, 2 n_c) [length/stress].
 
     Row 2i + k: displacement component k (x, y) at contact node i; column
     2j + l: unit traction component l at contact node j. Contact nodes in
-    increasing x. One LU, 2 n_c + 2 right-hand sides.
+    increasing x. One LU, 2 n_c + 2 right-hand sides. ``consume=True`` solves
+    in the body's own right-hand sides (no copy; the body is unusable after).
     """
     dofs = contact_dofs(body.mesh)
-    rhs = np.asfortranarray(np.hstack([body.rhs_contact, body.rhs_far]))
-    solution = scipy.linalg.lu_solve(body.lu, rhs, overwrite_b=True, check_finite=False)[dofs]
-    n = body.rhs_contact.shape[1]
+    solution = scipy.linalg.lu_solve(body.lu, body.rhs, overwrite_b=consume, check_finite=False)[dofs]
+    n = dofs.size
     flex = solution[:, :n]
     flex += solution[:, n:] @ body.resultant
     return flex
@@ -109,7 +109,7 @@ def boundary_values(body: Condensed, tractions: np.ndarray) -> tuple[np.ndarray,
     """
     t_c = np.asarray(tractions, dtype=float).reshape(-1)
     force = body.resultant @ t_c
-    solution = scipy.linalg.lu_solve(body.lu, body.rhs_contact @ t_c + body.rhs_far @ force, check_finite=False)
+    solution = scipy.linalg.lu_solve(body.lu, body.rhs @ np.concatenate([t_c, force]), check_finite=False)
     known = body.far_values @ force
     known[contact_dofs(body.mesh)] = t_c
     fixed = np.repeat(body.mesh.fixed, 2)

@@ -126,6 +126,20 @@ class _Builder:
             self.connectivity.append(ids)
         return new_nodes
 
+    def mesh(self, far: np.ndarray, contact: np.ndarray) -> BoundaryMesh:
+        """The finished, read-only mesh; ``far`` (N,) the truncation nodes, ``contact`` the contact nodes."""
+        nodes = np.array(self.nodes)
+        contact = np.asarray(contact)
+        return BoundaryMesh(
+            geometry=_frozen(np.array(self.geometry)),
+            local=_frozen(np.array(self.local)),
+            connectivity=_frozen(np.array(self.connectivity, dtype=np.int64)),
+            nodes=_frozen(nodes),
+            fixed=_frozen(np.array(self.fixed, dtype=bool)),
+            far=_frozen(far),
+            contact=_frozen(contact[np.argsort(nodes[contact, 0])]),
+        )
+
 
 def rectangle(
     half_width: float,
@@ -188,19 +202,9 @@ def rectangle(
     side = graded_edges(0.0, -depth, float(left[-2] - left[-1]), growth, big)
     left_side = b.segment(line(np.full(side.size, -half_width), side), fixed=far_field, discontinuous=all_disc)
 
-    nodes = np.array(b.nodes)
-    far = np.zeros(len(nodes), dtype=bool)
+    far = np.zeros(len(b.nodes), dtype=bool)
     if far_field:
         far[:on_bottom] = True
         far[right_side] = True
         far[left_side] = True
-    contact = contact[np.argsort(nodes[contact, 0])]
-    return BoundaryMesh(
-        geometry=_frozen(np.array(b.geometry)),
-        local=_frozen(np.array(b.local)),
-        connectivity=_frozen(np.array(b.connectivity, dtype=np.int64)),
-        nodes=_frozen(nodes),
-        fixed=_frozen(np.array(b.fixed, dtype=bool)),
-        far=_frozen(far),
-        contact=_frozen(contact),
-    )
+    return b.mesh(far, contact)
