@@ -1,19 +1,23 @@
 """The BEM half-space (issue #10): far-field truncation, creepage without offset, the overlap's
 meaning, the boundary solution, and the layer's free ends."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import rolling_cli
 from helpers import case_dict, dissimilar, run_cli, solve, write_case
+from rolling_cli.case import with_overrides
 from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import bem, build, halfplane
 from rolling_cli.influence.bem import farfield
+from rolling_cli.influence.bem.elements import evaluate, gauss, lagrange_coefficients, map_points
 from rolling_cli.pipeline import plan
 from rolling_cli.references import approach, hertz
 
 E = 2.0e5
-CASES = __import__("pathlib").Path(__file__).resolve().parents[1] / "cases"
+CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 def _derivative(values, grid):
@@ -188,8 +192,6 @@ def test_boundary_solution_balances_the_contact_load_and_matches_the_compliance(
         far = farfield.half_space_displacement(mesh.nodes[mesh.far], body.young, body.poisson, depth) @ resultant
         assert np.allclose(u[mesh.far], far, rtol=1e-12, atol=1e-15 * np.abs(far).max())
         # equilibrium: integrate the (quadratic) traction over every element
-        from rolling_cli.influence.bem.elements import evaluate, gauss, lagrange_coefficients, map_points
-
         xg, wg = gauss(6)
         _, _, jac = map_points(mesh.geometry, xg)
         shape = evaluate(lagrange_coefficients(mesh.local), np.broadcast_to(xg, jac.shape))
@@ -204,8 +206,6 @@ def test_the_layers_free_ends_do_not_matter_at_the_default_length():
     elements (the mesh difference of the longer layer), far below the 1.5e-3 RMS
     discretisation error at 60 elements; bounds 1e-4 and 1e-5."""
     base = rolling_cli.load_case(CASES / "tyred_fig11_q41.toml")
-    from rolling_cli.case import with_overrides
-
     results = [
         rolling_cli.solve(
             with_overrides(base, {"discretization.contact_elements": 60, "discretization.layer_length": length})
