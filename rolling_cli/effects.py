@@ -2,11 +2,15 @@
 
 Every skip is exact, not an approximation:
 
+* **influence model** (:func:`influence_model`): ``"auto"`` takes the
+  closed-form half-plane where it is exact (two half-spaces under load
+  control) and the BEM otherwise (a layer, overlap control); see
+  :mod:`rolling_cli.influence.choice`.
 * **coupling** (normal-tangential): skipped when the pair's cross compliance is
-  exactly zero: in the half-plane model when Kalker's K/G is exactly 0
-  (similar materials, or a rigid body against an incompressible one); in the
-  BEM model only for identical bodies, whose cross blocks cancel exactly
-  (a finite BEM block of nu = 0.5 still couples slightly, so it is kept).
+  exactly zero: for two half-spaces (closed form or BEM) when Kalker's K/G is
+  exactly 0 (similar materials, or a rigid body against an incompressible
+  one); with a layer only for identical bodies, whose cross blocks cancel
+  exactly (a layer couples strongly whatever its nu).
   Then the normal problem is solved first and the tangential one with p_n held,
   and the coupling blocks are never assembled.
 * **tangential problem**: skipped when mu = 0 (frictionless), or when the
@@ -27,11 +31,15 @@ from dataclasses import dataclass, field
 
 from . import materials
 from .case.schema import Body, Case
+from .influence.choice import influence_model
+
+__all__ = ["Effects", "decide", "identical", "cross_compliance", "influence_model"]
 
 
 @dataclass(frozen=True)
 class Effects:
-    """What is simulated. ``notes`` maps each effect to "simulated: why" or "skipped: why"."""
+    """What is simulated. ``notes`` maps each effect to "simulated: why" or "skipped: why";
+    ``influence`` is the resolved model, "bem" or "half-plane"."""
 
     strategy: str
     coupling: bool
@@ -39,6 +47,7 @@ class Effects:
     identical_bodies: bool
     notes: dict[str, str] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
+    influence: str = "half-plane"
 
     def with_influence_origin(self, origin: dict[str, str]) -> Effects:
         """A copy whose influence notes say where each BEM body came from (computed, cache, reused)."""
@@ -65,6 +74,7 @@ class Effects:
         return json.dumps(
             {
                 "strategy": self.strategy,
+                "influence": self.influence,
                 "coupling": self.coupling,
                 "tangential": self.tangential,
                 "identical_bodies": self.identical_bodies,
@@ -99,20 +109,23 @@ def decide(case: Case) -> Effects:
     same = identical(a, b)
     notes: dict[str, str] = {}
     warnings: list[str] = []
-    bem = case.discretization.influence == "bem"
+    model, why_model = influence_model(case)
+    bem = model == "bem"
+    layered = a.kind == "layered" or b.kind == "layered"
     k_over_g = cross_compliance(case)
     beta = materials.beta_seed(a.modulus, a.ratio, b.modulus, b.ratio)
 
-    if bem:
-        physical = not same
+    if same and bem:
+        physical = False
         why_zero = "identical bodies: the BEM cross blocks cancel exactly"
-        detail = (
-            f"half-plane beta = {beta:.3g}" if beta != 0.0 else "finite-body coupling; beta = 0 only for half-planes"
-        )
-        why_on = f"BEM cross blocks of different bodies do not cancel ({detail})"
+        why_on = ""
+    elif layered:
+        physical = True
+        why_zero = ""
+        why_on = "a layer couples normal and tangential tractions whatever its nu (BEM cross blocks)"
     else:
         physical = k_over_g != 0.0
-        why_zero = "beta = 0, exactly decoupled"
+        why_zero = "beta = 0, exactly decoupled" + (" (the BEM models half-spaces)" if bem else "")
         why_on = f"dissimilar materials, beta = {beta:.4g}"
 
     choice = case.effects.coupling
@@ -146,18 +159,21 @@ def decide(case: Case) -> Effects:
     notes["normal"] = "simulated: " + ("load" if case.normal.load is not None else "overlap") + " control"
     if not bem:
         rigid = [label for label, body in (("A", a), ("B", b)) if body.rigid]
-        notes["influence"] = "closed-form half-plane pair, one computation" + (
-            f" (body {rigid[0]} rigid: no compliance)" if rigid else ""
+        notes["influence"] = (
+            "closed-form half-plane pair, one computation"
+            + (f" (body {rigid[0]} rigid: no compliance)" if rigid else "")
+            + f" ({why_model})"
         )
     else:
+        notes["influence"] = f"BEM ({why_model})"
         for label, body in (("A", a), ("B", b)):
             if body.rigid:
                 notes[f"influence {label}"] = "skipped: rigid body, no mesh"
             elif label == "B" and same:
                 notes[f"influence {label}"] = "reused: identical to body A"
             else:
-                model = "BEM layer" if body.kind == "layered" else "BEM block"
-                notes[f"influence {label}"] = f"simulated: {model}"
+                kind = "BEM layer on a rigid core" if body.kind == "layered" else "BEM half-space"
+                notes[f"influence {label}"] = f"simulated: {kind}"
 
     strategy = "coupled" if coupling else ("decoupled" if tangential else "normal")
-    return Effects(strategy, coupling, tangential, same, notes, tuple(warnings))
+    return Effects(strategy, coupling, tangential, same, notes, tuple(warnings), model)

@@ -385,7 +385,7 @@ class MeshPath:
         disc = case.discretization
         if (
             self.given is None
-            and disc.influence == "half-plane"
+            and base.effects.influence == "half-plane"
             and base.effects.strategy == "coupled"
             and disc.contact_elements >= SEQUENCING_ELEMENTS
         ):
@@ -708,7 +708,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "traction_scale": float(np.max(np.abs(p_n))) if p_n.size else 0.0,
         "node_spacing": system.spacing,
         "direction": case.rolling.direction,
-        "influence": case.discretization.influence,
+        "influence": the_plan.effects.influence,
         "contact_elements": the_plan.grid.elements,
         "effects": effects.to_json(),
         "coupling_strength": strength or 0.0,

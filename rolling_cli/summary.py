@@ -60,7 +60,8 @@ def summary(result: Result, output: str | None = None) -> str:
         lines.append(f"  error estimate {attrs['error_estimate_note']}")
     elif "error_estimate" in attrs:
         lines.append(
-            f"  error estimate against {attrs.get('error_estimate_elements')} elements: "
+            f"  error estimate against {attrs.get('error_estimate_elements')} elements "
+            f"({attrs.get('error_estimate_method', 'half mesh')}): "
             f"traction max {_fmt(attrs['error_estimate'], 3)}, RMS {_fmt(attrs.get('error_estimate_rms'), 3)} "
             f"(of mu p0); creepage {_fmt(attrs.get('error_estimate_creep'), 3)}, load "
             f"{_fmt(attrs.get('error_estimate_load'), 3)} (relative)"

@@ -21,7 +21,7 @@ def test_defaults_are_filled():
     data = case_dict(**{"discretization": None, "rolling": None, "tangential": None})
     case = load_case(data)
     assert case.discretization.contact_elements == 200
-    assert case.discretization.influence == "bem"
+    assert case.discretization.influence == "auto"
     assert case.discretization.zone == 1.5
     assert case.rolling.direction == -1
     assert case.solver.tolerance == 1e-10 and case.solver.penalty == "auto"

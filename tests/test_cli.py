@@ -168,16 +168,3 @@ def test_error_estimate_is_reported_and_stored(tmp_path):
 
     true_error = np.max(np.abs(p_t - carter.traction(x, 0.51, a, p0, mu, -1))) / (mu * p0)
     assert true_error <= estimate
-
-
-def test_error_estimate_says_why_it_is_unavailable(tmp_path):
-    """A layer's half mesh would break the b/2 element rule: the solve succeeds, the estimate says why not."""
-    from pathlib import Path
-
-    case = Path(__file__).resolve().parents[1] / "cases" / "tyred_fig11_q41.toml"
-    out = tmp_path / "t.h5"
-    result = _run("solve", case, "-o", out, "--error-estimate")
-    assert result.exit_code == 0, result.output
-    assert "error estimate no estimate: the half mesh cannot be solved" in result.output
-    with h5py.File(out) as f:
-        assert np.isnan(f.attrs["error_estimate"]) and "half mesh" in f.attrs["error_estimate_note"]

@@ -83,3 +83,80 @@ def test_rigid_body_and_identical_bodies_need_no_extra_influence():
     assert notes["influence A"] == "skipped: rigid body, no mesh"
     same = solve(case_dict(**{"discretization.influence": "bem", "discretization.contact_elements": 30}))
     assert _effects(same)["notes"]["influence B"] == "reused: identical to body A"
+
+
+LAYER = {"kind": "layered", "radius": 100.0, "young": 10.0, "poisson": 0.5, "layer_thickness": 0.1}
+
+
+@pytest.mark.parametrize(
+    "label,dotted,model,why",
+    [
+        ("half-spaces, load", {}, "half-plane", "auto: two half-spaces under load control"),
+        ("rigid on elastic, load", {"bodies.A": RIGID}, "half-plane", "auto: two half-spaces under load control"),
+        ("overlap", {"normal.overlap": 0.015}, "bem", "auto: overlap control"),
+        ("layer", {"bodies.A": RIGID, "bodies.B": LAYER, "normal.overlap": 0.0042}, "bem", "auto: body B is layered"),
+        ("forced bem", {"discretization.influence": "bem"}, "bem", 'discretization.influence = "bem"'),
+        ("forced half-plane", {"discretization.influence": "half-plane"}, "half-plane", 'influence = "half-plane"'),
+    ],
+)
+def test_auto_influence_picks_the_closed_form_where_it_is_exact(label, dotted, model, why):
+    """discretization.influence defaults to "auto": the closed-form half-plane for two
+    half-spaces under load control, the BEM for an overlap or a layer; "bem" and
+    "half-plane" force a model. The choice and its reason are in the effects (JSON and the
+    summary line), and the result's ``influence`` attribute is the resolved model."""
+    from rolling_cli import load_case
+    from rolling_cli.effects import decide
+
+    data = case_dict(**{"discretization.influence": None, **dotted})
+    effects = decide(load_case(data))
+    assert effects.influence == model, label
+    assert why in effects.notes["influence"], label
+    assert json.loads(effects.to_json())["influence"] == model
+    if label in ("half-spaces, load", "overlap"):
+        r = solve(case_dict(data, **{"discretization.contact_elements": 30}))
+        assert r.influence == model and why in r.effects_line
+
+
+def test_constant_elements_with_an_automatic_bem_are_rejected_naming_the_reason():
+    from rolling_cli import load_case
+    from rolling_cli.errors import CaseError
+
+    with pytest.raises(CaseError, match=r"discretization.element.*auto: overlap control"):
+        load_case(
+            case_dict(
+                **{"discretization.influence": "auto", "discretization.element": "constant", "normal.overlap": 0.015}
+            )
+        )
+    assert load_case(case_dict(**{"discretization.influence": "auto", "discretization.element": "constant"}))
+
+
+def test_bem_half_spaces_with_beta_zero_are_decoupled():
+    """The BEM now models half-spaces, so a rigid body on an incompressible one has exactly zero
+    cross compliance (Carter is exact for it): the coupling is skipped, as for the closed form."""
+    r = solve(
+        case_dict(
+            **{
+                "bodies.A": RIGID,
+                "bodies.B.poisson": 0.5,
+                "discretization.influence": "bem",
+                "discretization.contact_elements": 30,
+            }
+        )
+    )
+    assert "coupling: skipped: beta = 0, exactly decoupled (the BEM models half-spaces)" in r.effects_line
+    assert "influence B: simulated: BEM half-space" in r.effects_line
+
+
+def test_error_estimate_reports_nan_and_why_when_no_comparison_mesh_solves(monkeypatch):
+    from rolling_cli import estimate, load_case
+    from rolling_cli.errors import ConvergenceError
+
+    case = load_case(case_dict(**{"discretization.contact_elements": 20}))
+    result = solve(case_dict(**{"discretization.contact_elements": 20}))
+
+    def fail(*args, **kwargs):
+        raise ConvergenceError("Newton did not converge", cause="test")
+
+    monkeypatch.setattr(estimate, "solve", fail)
+    estimate.add_error_estimate(case, result)
+    assert np.isnan(result.error_estimate) and result.error_estimate_note.startswith("no estimate: the half mesh")

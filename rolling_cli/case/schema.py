@@ -13,6 +13,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..influence.choice import MODELS
+
 
 def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any) -> Any:
     """A dataclass field with validation rules in its metadata.
@@ -100,7 +102,9 @@ class Rolling:
 
 @dataclass(frozen=True)
 class Discretization:
-    influence: str = spec("bem", doc="influence model", kind="str", choices=("bem", "half-plane"))
+    influence: str = spec(
+        "auto", doc="influence model (auto: half-plane where exact, else BEM)", kind="str", choices=MODELS
+    )
     contact_elements: int = spec(200, doc="elements over the potential contact zone", kind="int", ge=2, le=20000)
     zone: float = spec(1.5, doc="potential zone half-width / Hertz a", kind="float", gt=1.0, le=20.0)
     element: str = spec(
@@ -110,8 +114,14 @@ class Discretization:
         choices=("quadratic", "constant"),
     )
     slip_derivative: str = spec("fd", doc="slip derivative scheme", kind="str", choices=("fd", "element"))
-    block_width: float = spec(100.0, doc="BEM half-space block: half-width / a", kind="float", gt=2.0, le=10000.0)
-    block_depth: float = spec(100.0, doc="BEM half-space block: depth / a", kind="float", gt=1.0, le=10000.0)
+    block_width: float = spec(100.0, doc="BEM half-space truncation: half-width / a", kind="float", gt=2.0, le=10000.0)
+    block_depth: float = spec(
+        100.0,
+        doc="BEM half-space: truncation depth / a, the overlap's reference depth",
+        kind="float",
+        gt=1.0,
+        le=10000.0,
+    )
     layer_length: float = spec(
         10.0, doc="BEM layer: free length beyond the zone / layer thickness", kind="float", gt=0.5, le=1000.0
     )

@@ -14,6 +14,7 @@ import math
 from typing import Any
 
 from ..errors import CaseError
+from ..influence.choice import influence_model
 from . import schema
 
 
@@ -212,9 +213,14 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
             )
         if layered:
             raise _fail(file, "discretization.influence", disc.influence, "a layered body needs the BEM model", '"bem"')
-    if disc.influence == "bem" and disc.element == "constant":
+    model, why = influence_model(case)
+    if model == "bem" and disc.element == "constant":
         raise _fail(
-            file, "discretization.element", disc.element, "the BEM model uses quadratic elements", '"quadratic"'
+            file,
+            "discretization.element",
+            disc.element,
+            f"the BEM model ({why}) uses quadratic elements",
+            '"quadratic"',
         )
     mu = case.friction.mu
     kind, value = case.tangential.control()

@@ -3,10 +3,16 @@
 * ``half-plane``: the closed form of :mod:`.halfplane` for the pair, with the
   coupling blocks only when the effects call for them.
 * ``bem``: one BEM condensation per distinct deformable body (:mod:`.bem`):
-  a half-space block of half-width ``block_width`` a and depth ``block_depth``
-  a for an elastic body, the layer (thickness b, free length ``layer_length``
-  b beyond the zone on each side) for a layered one; none for a rigid body; one
-  for two identical bodies. The pair is formed by :func:`~rolling_cli.influence.combine`.
+  a half-space truncated at half-width ``block_width`` a and depth
+  ``block_depth`` a (far-field displacement on the truncation, the approach
+  measured from depth D) for an elastic body, the layer (thickness b, free
+  length ``layer_length`` b beyond the zone on each side) for a layered one;
+  none for a rigid body; one for two identical bodies. The pair is formed by
+  :func:`~rolling_cli.influence.combine`.
+
+The model is the plan's resolved one (``the_plan.effects.influence``, see
+:mod:`.choice`). :func:`boundary_solution` gives a BEM body's full boundary
+solution for given contact tractions (for interior stresses).
 
 Results are memoised in-process and, for the BEM, cached on disk
 (:mod:`.cache`) on everything they depend on, so sweeps and re-runs never
@@ -18,6 +24,9 @@ from __future__ import annotations
 import functools
 import logging
 
+import numpy as np
+
+from ..grid import ContactGrid
 from . import Compliance, bem, cache, combine, halfplane
 
 log = logging.getLogger(__name__)
@@ -29,7 +38,7 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
     "closed form")."""
     a, b = case.bodies.A, case.bodies.B
     coupling = the_plan.effects.coupling
-    if case.discretization.influence == "half-plane":
+    if the_plan.effects.influence == "half-plane":
         pair = _halfplane(the_plan.grid, a.modulus, a.ratio, b.modulus, b.ratio, coupling)
         return pair, {"A": "closed form", "B": "closed form"}
     origin = {}
@@ -85,16 +94,50 @@ def clear_memo() -> None:
     """Forget the in-process influence memo (benchmarks time cold builds)."""
     _memo.clear()
     _halfplane.cache_clear()
+    _prepared.cache_clear()
+
+
+def _prepare(inputs: dict) -> tuple[bem.Condensed, ContactGrid]:
+    grid = ContactGrid(inputs["zone_half_width"], inputs["elements"], 2)
+    layer = inputs["kind"] == "layered"
+    largest = inputs["depth"] if layer else None
+    mesh = bem.body_mesh(grid, inputs["half_width"], inputs["depth"], largest=largest, far_field=not layer)
+    log.info("BEM %s: %d elements, %d nodes", inputs["kind"], mesh.elements, mesh.size)
+    return bem.prepare_body(mesh, grid, inputs["young"], inputs["poisson"]), grid
 
 
 def _compute_bem(inputs: dict) -> Compliance:
-    from ..grid import ContactGrid
+    return bem.compliance(*_prepare(inputs), consume=True)
 
-    grid = ContactGrid(inputs["zone_half_width"], inputs["elements"], 2)
-    largest = inputs["depth"] if inputs["kind"] == "layered" else None
-    mesh = bem.body_mesh(grid, inputs["half_width"], inputs["depth"], largest=largest)
-    log.info("BEM %s: %d elements, %d nodes", inputs["kind"], mesh.elements, mesh.size)
-    return bem.condensed(mesh, grid, inputs["young"], inputs["poisson"])
+
+@functools.lru_cache(maxsize=2)
+def _prepared(frozen: tuple) -> bem.Condensed:
+    return _prepare(dict(frozen))[0]
+
+
+def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarray) -> tuple:
+    """Full boundary solution of BEM body ``label`` ("A" or "B") for the pair's contact tractions.
+
+    ``p_n``, ``p_t`` (n_c,) [stress] are the pair's nodal tractions on the
+    plan's contact grid (a :class:`~rolling_cli.result.Result`'s ``p_n`` and
+    ``p_t``; p_t is the traction on A, so body B, in its mirrored frame,
+    carries -p_t). Returns ``(mesh, u, t)`` of
+    :func:`rolling_cli.influence.bem.boundary_solution`, in the body's own
+    block frame (x along the surface, y up, the body below y = 0): nodes
+    ``mesh.nodes`` (N, 2) [length], displacements u (N, 2) [length] and
+    tractions t (N, 2) [stress] on every boundary node, far-field conditions
+    included. The factorised body is memoised (the last two bodies). Raises
+    ValueError for a rigid body or a half-plane case (no boundary mesh).
+
+    For a result ``r`` of ``case``: ``the_plan = pipeline.plan(case,
+    half_width=r.mesh_half_width)``.
+    """
+    body = getattr(case.bodies, label)
+    if the_plan.effects.influence != "bem" or body.rigid:
+        raise ValueError(f"body {label} has no BEM mesh (rigid body or half-plane model)")
+    inputs = bem_inputs(case, the_plan, body)
+    sign = 1.0 if label == "A" else -1.0
+    return bem.boundary_solution(_prepared(tuple(sorted(inputs.items()))), p_n, sign * np.asarray(p_t))
 
 
 @functools.lru_cache(maxsize=8)

@@ -25,7 +25,7 @@ from . import Compliance
 
 log = logging.getLogger(__name__)
 
-MODEL_VERSION = 1
+MODEL_VERSION = 2
 _BLOCKS = ("S_nn", "S_nt", "S_tn", "S_tt")
 
 

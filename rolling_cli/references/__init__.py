@@ -2,7 +2,8 @@
 
 * :mod:`.hertz`: Hertz line contact (plane strain).
 * :mod:`.carter`: Carter's (1926) steady rolling of similar cylinders.
-* :mod:`.approach`: the 2D approach of a cylinder into a block of finite depth,
-  used to estimate the contact half-width when only the overlap is given.
+* :mod:`.flamant`: a line force on a half-plane (the BEM half-space's far field).
+* :mod:`.approach`: the approach of a half-space under a Hertz pressure,
+  measured from the point at depth d below the contact (the overlap's meaning).
 * :mod:`.thin_layer`: the thin bonded layer limits (sanity bounds).
 """

@@ -1,10 +1,13 @@
 """Immutable boundary meshes and the rectangular body generator.
 
 A body near its contact is a rectangle [-W, W] x [-D, 0] whose top face y = 0
-holds the potential contact zone [-c, c]: the half-space block of a cylinder
-(D and W large against the contact) or the layer of a tyred cylinder (D = b).
-Its bottom is fixed (u = 0, bonded to the rigid core for a layer) and its
-sides are traction-free. The contact zone is meshed with the contact grid's
+holds the potential contact zone [-c, c]: the truncated half-space of a
+cylinder (D and W large against the contact) or the layer of a tyred cylinder
+(D = b). Its top face is traction-free outside the contact. A layer's bottom
+is fixed (u = 0, bonded to the rigid core) and its ends are traction-free. A
+half-space's sides and bottom are its truncation boundary (``far``): their
+displacement is prescribed from the far field of the half-space (see
+:mod:`.farfield`). The contact zone is meshed with the contact grid's
 uniform discontinuous elements; the rest of the top face with continuous
 elements graded away from it; the sides and the bottom with continuous
 elements, partially discontinuous at the corners and where a continuous
@@ -34,9 +37,12 @@ class BoundaryMesh:
     ``geometry`` (E, 3, 2) element geometric nodes [length]; ``local`` (E, 3)
     local coordinates of each element's functional nodes; ``connectivity``
     (E, 3) their global node numbers; ``nodes`` (N, 2) node positions;
-    ``fixed`` (N,) True where the displacement is prescribed (zero), else the
-    traction; ``contact`` the contact node numbers in increasing x.
-    All arrays are read-only.
+    ``fixed`` (N,) True where the displacement is prescribed, else the
+    traction; ``far`` (N,) True on the truncation boundary of a half-space,
+    where the prescribed displacement is the far field (elsewhere a prescribed
+    displacement is zero and a prescribed traction is zero off the contact);
+    ``contact`` the contact node numbers in increasing x. All arrays are
+    read-only.
     """
 
     geometry: np.ndarray
@@ -44,6 +50,7 @@ class BoundaryMesh:
     connectivity: np.ndarray
     nodes: np.ndarray
     fixed: np.ndarray
+    far: np.ndarray
     contact: np.ndarray
 
     @property
@@ -119,6 +126,20 @@ class _Builder:
             self.connectivity.append(ids)
         return new_nodes
 
+    def mesh(self, far: np.ndarray, contact: np.ndarray) -> BoundaryMesh:
+        """The finished, read-only mesh; ``far`` (N,) the truncation nodes, ``contact`` the contact nodes."""
+        nodes = np.array(self.nodes)
+        contact = np.asarray(contact)
+        return BoundaryMesh(
+            geometry=_frozen(np.array(self.geometry)),
+            local=_frozen(np.array(self.local)),
+            connectivity=_frozen(np.array(self.connectivity, dtype=np.int64)),
+            nodes=_frozen(nodes),
+            fixed=_frozen(np.array(self.fixed, dtype=bool)),
+            far=_frozen(far),
+            contact=_frozen(contact[np.argsort(nodes[contact, 0])]),
+        )
+
 
 def rectangle(
     half_width: float,
@@ -127,6 +148,7 @@ def rectangle(
     growth: float = 1.4,
     largest: float | None = None,
     kind: str = "mixed",
+    far_field: bool = False,
 ) -> BoundaryMesh:
     """The rectangular body [-W, W] x [-D, 0] with contact elements ``zone_edges`` on top.
 
@@ -135,7 +157,9 @@ def rectangle(
     the contact element size up to ``largest`` (default: min(D, W) / 4).
     ``kind``: "mixed" (discontinuous contact elements, continuous elsewhere),
     "discontinuous" or "continuous" (contact zone too) everywhere; the last two
-    exist for patch tests of each element kind.
+    exist for patch tests of each element kind. ``far_field``: the sides and
+    the bottom are a half-space's truncation boundary (displacement prescribed,
+    ``far``); otherwise the bottom is fixed and the sides are traction-free.
     """
     if kind not in ("mixed", "discontinuous", "continuous"):
         raise ValueError(f"unknown element kind {kind!r}")
@@ -155,11 +179,12 @@ def rectangle(
     right = graded_edges(0.0, half_width, min(big, max(h, depth / 8.0)), growth, big)
     bottom_x = np.concatenate([-right[::-1], right[1:]])
     b.segment(line(bottom_x, np.full(bottom_x.size, -depth)), fixed=True, discontinuous=all_disc)
+    on_bottom = len(b.nodes)
     # right side, from (W, -D) up to (W, 0): fine at the top corner
     top_corner = graded_edges(c_hi, half_width, h, growth, big)
     corner_size = float(top_corner[-1] - top_corner[-2])
     side = graded_edges(0.0, -depth, corner_size, growth, big)[::-1]
-    b.segment(line(np.full(side.size, half_width), side), fixed=False, discontinuous=all_disc)
+    right_side = b.segment(line(np.full(side.size, half_width), side), fixed=far_field, discontinuous=all_disc)
     # top face, from (W, 0) to (-W, 0): graded, contact zone, graded
     left = graded_edges(c_lo, -half_width, h, growth, big)
     if kind == "continuous":  # one continuous segment across the whole top face
@@ -175,15 +200,11 @@ def rectangle(
         b.segment(line(left, np.zeros(left.size)), fixed=False, discontinuous=all_disc)
     # left side, from (-W, 0) down to (-W, -D)
     side = graded_edges(0.0, -depth, float(left[-2] - left[-1]), growth, big)
-    b.segment(line(np.full(side.size, -half_width), side), fixed=False, discontinuous=all_disc)
+    left_side = b.segment(line(np.full(side.size, -half_width), side), fixed=far_field, discontinuous=all_disc)
 
-    nodes = np.array(b.nodes)
-    contact = contact[np.argsort(nodes[contact, 0])]
-    return BoundaryMesh(
-        geometry=_frozen(np.array(b.geometry)),
-        local=_frozen(np.array(b.local)),
-        connectivity=_frozen(np.array(b.connectivity, dtype=np.int64)),
-        nodes=_frozen(nodes),
-        fixed=_frozen(np.array(b.fixed, dtype=bool)),
-        contact=_frozen(contact),
-    )
+    far = np.zeros(len(b.nodes), dtype=bool)
+    if far_field:
+        far[:on_bottom] = True
+        far[right_side] = True
+        far[left_side] = True
+    return b.mesh(far, contact)
