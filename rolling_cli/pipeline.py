@@ -25,6 +25,7 @@ from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
 from .influence.build import pair_compliance
 from .references import carter, hertz, thin_layer
+from .resources import check_resources
 from .result import Result, node_states, utc_timestamp
 from .solver.control import Controls, solve_rolling
 from .solver.initial import carter_ratio_for_creep, cold_start
@@ -363,6 +364,8 @@ def solve(
     """
     if not isinstance(case, Case):
         case = load_case(case)
+    if system is None:
+        check_resources(case)  # refuse what will not fit before allocating anything
     requested = case.discretization.zone
     while True:
         try:
