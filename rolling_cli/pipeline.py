@@ -31,6 +31,7 @@ from .solver.control import Controls, solve_rolling
 from .solver.initial import carter_ratio_for_creep, cold_start
 from .solver.newton import State
 from .system import ContactSystem, build_system
+from .validity import half_space_check
 
 log = logging.getLogger(__name__)
 
@@ -566,6 +567,7 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "unit_line_force": case.units.line_force,
         "bodies": f"A: {a.kind}, B: {b.kind}",
     }
+    attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0
