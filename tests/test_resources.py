@@ -43,9 +43,9 @@ def _tyred(elements: int) -> dict:
 
 MEASURED = {
     "half-plane, decoupled": case_dict(**{"discretization.contact_elements": 400}),
-    "half-plane, coupled": dissimilar(**{"discretization.contact_elements": 300}),
-    "BEM, two bodies": dissimilar(**{"discretization.contact_elements": 150, "discretization.influence": "bem"}),
-    "BEM layer, pre-solve": _tyred(150),
+    "half-plane, coupled": dissimilar(**{"discretization.contact_elements": 260}),
+    "BEM, two bodies": dissimilar(**{"discretization.contact_elements": 120, "discretization.influence": "bem"}),
+    "BEM layer, pre-solve": _tyred(120),
 }
 
 
