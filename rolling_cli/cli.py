@@ -112,9 +112,11 @@ def check(case_file):
     def action():
         from .case import case_to_toml, load_case
         from .pipeline import check_gross_sliding, plan
+        from .resources import check_resources
 
         case = load_case(case_file)
         check_gross_sliding(case)
+        needs = check_resources(case)
         the_plan = plan(case)
         derived = {
             "derived": {
@@ -128,6 +130,7 @@ def check(case_file):
                 "contact_nodes": the_plan.grid.size,
                 "node_spacing": the_plan.grid.spacing,
                 "effects": the_plan.effects.line(),
+                **needs.as_dict(),
             }
         }
         if case.normal.load is None:

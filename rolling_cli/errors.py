@@ -12,6 +12,11 @@
 
 from __future__ import annotations
 
+import re
+
+#: Control characters (and Unicode line breaks) that would split or garble a one-line message.
+CONTROL_CHARACTERS = re.compile("[\x00-\x1f\x7f-\x9f\u2028\u2029]")
+
 
 class RollingError(Exception):
     """Base class of all rolling_cli errors."""
@@ -24,7 +29,8 @@ class CaseError(RollingError):
         self.file = file
         self.key = key
         prefix = f"{file}: " if file else ""
-        super().__init__(prefix + message)
+        # file names, keys and values come from the user: escape control characters (one line)
+        super().__init__(CONTROL_CHARACTERS.sub(lambda m: repr(m.group())[1:-1], prefix + message))
 
 
 class GrossSlidingError(RollingError):

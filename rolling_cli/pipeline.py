@@ -42,6 +42,7 @@ from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
 from .influence.build import pair_compliance
 from .references import carter, hertz, thin_layer
+from .resources import check_resources
 from .result import Result, node_states, utc_timestamp
 from .solver import continuation, control, formulation, predictor, strategies
 from .solver.budget import Budget
@@ -49,6 +50,7 @@ from .solver.formulation import State
 from .solver.initial import carter_ratio_for_creep, cold_start
 from .solver.strategies import Controls, Solution, StrategyFailed, Task
 from .system import ContactSystem, build_system
+from .validity import half_space_check
 
 log = logging.getLogger(__name__)
 
@@ -288,11 +290,13 @@ SEQUENCING_ELEMENTS = 240
 #: Enlarging the potential zone: factor per step, and the largest zone / a.
 ZONE_GROWTH = 1.5
 ZONE_LIMIT = 8.0
-#: mu |beta_Dundurs| above which the coupling is strong (named in failure messages).
+#: mu |beta_Dundurs| above which the coupling is strong, and |beta_Dundurs| / mu above which the
+#: friction is tiny against it (both named in failure messages).
 STRONG_COUPLING = 0.6
+TINY_FRICTION = 1e3
 
 
-def _presolve_case(case: Case, guess: float, zone: float) -> Case:
+def presolve_case(case: Case, guess: float, zone: float) -> Case:
     """The coarse frictionless normal case that measures a around the guess ``guess`` [length]."""
     thinnest = min(
         (float(b.layer_thickness) for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"), default=math.inf
@@ -367,7 +371,7 @@ class MeshPath:
         if not base.measured and self.given is None:
             guess, zone = base.half_width, PRESOLVE_ZONE
             for _ in range(6):
-                coarse = _presolve_case(case, guess, zone)
+                coarse = presolve_case(case, guess, zone)
                 yield self._announce(Level("a-estimate", coarse, plan(coarse, half_width=guess, check=False)))
                 last = self.points[-1][1]
                 measured, touches = _contact_half_width(last.solution)
@@ -510,6 +514,8 @@ def solve(
         case = load_case(case)
     t0 = time.perf_counter()
     check_gross_sliding(case)
+    if system is None:
+        check_resources(case)  # refuse what will not fit before allocating anything
     base = measured_plan(case, use_cache) if system is not None else plan(case)
     for warning in base.effects.warnings:
         log.warning(warning)
@@ -577,9 +583,14 @@ def _failure(level: Level, err: ConvergenceError, path: MeshPath, keep_failed: b
             cause="discretization.zone is too small for this case; enlarge it",
         ) from err
     cause = err.cause
-    strength = abs(0.5 * level.plan.beta_seed) * level.case.friction.mu
-    if strength > STRONG_COUPLING:
-        cause += f"; the normal-tangential coupling is strong (mu |beta_Dundurs| = {strength:.2f})"
+    beta, mu = abs(0.5 * level.plan.beta_seed), level.case.friction.mu
+    if beta * mu > STRONG_COUPLING:
+        cause += f"; the normal-tangential coupling is strong (mu |beta_Dundurs| = {beta * mu:.2f})"
+    elif mu > 0.0 and beta > TINY_FRICTION * mu:
+        cause += (
+            f"; friction is tiny against the coupling (|beta_Dundurs| / mu = {beta / mu:.3g}): the adhesion zone is "
+            "narrower than a node, so Q(xi) is a staircase; refine the mesh or raise solver.max_iterations"
+        )
     where = {
         "a-estimate": " in the frictionless pre-solve that measures the contact half-width",
         "coarse grid": " on a coarse grid",
@@ -721,6 +732,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "time_influence": timings["influence"],
         "time_solve": timings["solve"],
     }
+    attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0

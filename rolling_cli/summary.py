@@ -50,6 +50,8 @@ def summary(result: Result, output: str | None = None) -> str:
         f"  contact        half-width {_fmt(attrs.get('contact_half_width'))} {length}, "
         f"centre {_fmt(attrs.get('contact_centre'), 4)} {length}"
     )
+    if attrs.get("validity_warning"):
+        lines.append(f"  WARNING        {attrs['validity_warning']}")
     if attrs.get("zone_note"):
         lines.append(f"  NOTE           {attrs['zone_note']}")
     for name, start, end in result.zones():

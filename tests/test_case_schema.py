@@ -41,7 +41,7 @@ def test_defaults_are_filled():
         ("discretization.influence", "bme", 'not a valid choice (did you mean "bem"?)'),
         ("discretization.contact_elements", 2.5, "discretization.contact_elements = 2.5: wrong type"),
         ("friction.mu", -0.1, "friction.mu = -0.1: out of range"),
-        ("solver.penalty", "big", 'solver.penalty = "big": wrong type; allowed: "auto" or a number > 0'),
+        ("solver.penalty", "big", 'solver.penalty = "big": wrong type; allowed: "auto" or a number >= 1e-30'),
         ("bodies.A.radius", -1.0, "bodies.A.radius = -1.0: out of range"),
     ],
 )
@@ -101,3 +101,94 @@ def test_overrides_revalidate_and_replace_exclusive_keys():
     assert changed.tangential.control() == ("creep", -1e-4)
     with pytest.raises(CaseError, match="friction.mu = -1"):
         with_overrides(case, {"friction.mu": -1})
+
+
+# Ranges that mean something (issue #15, item 10): what the schema refuses, and
+# that the boundary values it accepts give a result passing the contact-law check
+# or fail with a message.
+
+
+@pytest.mark.parametrize(
+    "key,value,expect",
+    [
+        ("solver.tolerance", 0.999, "solver.tolerance = 0.999: out of range; allowed: a number >= 1e-14 and <= 0.001"),
+        ("solver.tolerance", 1e-15, "solver.tolerance = 1e-15: out of range"),
+        ("friction.mu", 1e300, "friction.mu = 1e+300: out of range; allowed: 0, or a number >= 1e-06 and <= 100"),
+        ("friction.mu", 1e-9, "friction.mu = 1e-09: too small to resolve in double precision; allowed: 0, or"),
+        ("tangential.creep", 2.0, "tangential.creep = 2.0: out of range; allowed: a number >= -1 and <= 1"),
+        ("tangential.load", -1e31, "tangential.load = -1e+31: out of range"),
+        ("normal.load", 1e-300, "normal.load = 1e-300: out of range; allowed: a number >= 1e-30 and <= 1e+30"),
+        ("bodies.A.young", 10**400, "bodies.A.young = 1000000000000000000"),  # an integer beyond any double
+        ("bodies.A.radius", 1e31, "bodies.A.radius = 1e+31: out of range"),
+        ("solver.penalty", 1e-31, "solver.penalty = 1e-31: out of range"),
+        ("title", "two\nlines", 'title = "two\\nlines": control characters'),
+        ("title", "x" * 1001, "too long (1001 characters); allowed: a string of at most 1000 characters"),
+        ("units.force", "N\0", "units.force = \"N\\x00\": control characters"),
+    ],
+)
+def test_meaningful_ranges(key, value, expect):
+    assert expect in _error(case_dict(**{key: value}))
+
+
+def _layered(thickness: float, radius: float = 100.0) -> dict:
+    layer = {"kind": "layered", "radius": radius, "young": 10.0, "poisson": 0.5, "layer_thickness": thickness}
+    return case_dict(
+        **{"bodies.A": {"kind": "rigid", "radius": 100.0}, "bodies.B": layer, "discretization.influence": "bem"}
+    )
+
+
+def test_layer_must_be_thinner_than_its_body():
+    assert load_case(_layered(99.0)).bodies.B.layer_thickness == 99.0
+    for thickness in (100.0, 250.0):
+        assert f"bodies.B.layer_thickness = {thickness}: not thinner than the body (radius 100)" in _error(
+            _layered(thickness)
+        )
+    assert "bodies.B.layer_thickness = 1e-300: out of range" in _error(_layered(1e-300))
+    assert load_case(_layered(5.0, radius=math.inf)).bodies.B.layer_thickness == 5.0  # a layered flat
+
+
+def test_overlap_smaller_than_radii_and_layers():
+    layered = case_dict(_layered(0.1), **{"normal.overlap": 0.0042})
+    assert load_case(layered).normal.overlap == 0.0042
+    message = _error(case_dict(layered, **{"normal.overlap": 0.1}))
+    assert "normal.overlap = 0.1: not smaller than bodies.B.layer_thickness = 0.1; allowed: a number < 0.1" in message
+    bem = case_dict(**{"discretization.influence": "bem", "bodies.A.radius": 2.0, "normal.overlap": 3.0})
+    assert "normal.overlap = 3.0: not smaller than bodies.A.radius = 2" in _error(bem)
+
+
+def test_accepted_extremes_solve_or_fail_with_a_message():
+    """The ends of the accepted ranges: tolerance 1e-3 and 1e-14, mu 1e-6 and 100, the
+    largest creepage. Each passes the contact laws at its own tolerance or raises a
+    solver error with a one-line message, never a wrong "converged". Those with a
+    regular solution must solve; three may fail: 1e-14 lies below the residual's
+    rounding floor on most meshes (about 5 eps n; the solver then converges to a
+    small multiple of its estimate of that floor and records it as
+    ``tolerance_applied``), mu = 100 on aluminium/steel is deep in the
+    strong-coupling corner (mu |beta_Dundurs| = 14), and mu = 1e-6 on
+    aluminium/steel has |beta_Dundurs| / mu = 1.4e5: its adhesion zone is far
+    narrower than a node and the force is a staircase in the creepage (the
+    message must say so)."""
+    from helpers import assert_contact_laws, dissimilar, solve
+    from rolling_cli.errors import RollingError
+
+    small = {"discretization.contact_elements": 40}
+    cases = [  # (case, its tolerance, must it solve?)
+        (case_dict(**small, **{"solver.tolerance": 1e-3}), 1e-3, True),
+        (case_dict(**small, **{"solver.tolerance": 1e-14}), 1e-14, False),
+        (case_dict(**small, **{"friction.mu": 1e-6}), 1e-10, True),
+        (dissimilar(**small, **{"friction.mu": 1e-6}), 1e-10, False),
+        (case_dict(**small, **{"friction.mu": 100.0}), 1e-10, True),
+        (dissimilar(**small, **{"friction.mu": 100.0, "tangential.q_over_mu_p": 0.5}), 1e-10, False),
+        (case_dict(**small, **{"tangential.creep": -1.0}), 1e-10, True),
+    ]
+    for data, tolerance, must in cases:
+        try:
+            result = solve(data)
+        except RollingError as err:
+            assert not must, err
+            assert "\n" not in str(err) and str(err)
+            if data["friction"]["mu"] == 1e-6:
+                assert "friction is tiny against the coupling" in str(err)
+            continue
+        assert result.tolerance_applied >= tolerance
+        assert_contact_laws(result, result.tolerance_applied)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import os
+import stat
 import tomllib
 from typing import Any
 
@@ -14,21 +15,96 @@ from ..errors import CaseError
 from . import schema
 from .validate import build, check_consistency
 
+#: Largest case file read [bytes]. A case is a few hundred bytes; the cap keeps
+#: a wrong path (a log, an image, a device) from being read into memory.
+MAX_CASE_BYTES = 1_000_000
+
+_ALLOWED_FILE = "a regular TOML case file of at most 1 MB"
+
 
 def read_toml(path: str | os.PathLike) -> dict:
-    """The parsed TOML document of a case file (errors as in :func:`load_case`)."""
+    """The parsed TOML document of a case file (errors as in :func:`load_case`).
+
+    Only a regular file of at most :data:`MAX_CASE_BYTES` is read; a directory,
+    FIFO, socket or device is refused without opening it for a blocking read.
+    Every failure (missing, unreadable, too large, not UTF-8, invalid TOML,
+    nested too deeply for the parser) is a one-line :class:`CaseError`.
+    """
     path = os.fspath(path)
+    text = _read_text(path)
     try:
-        with open(path, "rb") as handle:
-            return tomllib.load(handle)
-    except FileNotFoundError:
-        raise CaseError("file not found; allowed: a path to a TOML case file", file=path) from None
-    except IsADirectoryError:
-        raise CaseError("is a directory; allowed: a path to a TOML case file", file=path) from None
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
         raise CaseError(f"invalid TOML ({err}); allowed: TOML 1.0 syntax", file=path) from None
-    except UnicodeDecodeError:
-        raise CaseError("not UTF-8 text; allowed: a TOML case file", file=path) from None
+    except RecursionError:
+        raise CaseError(
+            "invalid TOML (arrays or inline tables nested too deeply for the parser); allowed: a case file", file=path
+        ) from None
+    except ValueError as err:  # e.g. an integer of more than 4300 digits
+        raise CaseError(f"invalid TOML ({err}); allowed: TOML 1.0 syntax", file=path) from None
+
+
+def _file_kind(mode: int) -> str:
+    for test, name in (
+        (stat.S_ISDIR, "a directory"),
+        (stat.S_ISFIFO, "a FIFO (named pipe)"),
+        (stat.S_ISSOCK, "a socket"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+    ):
+        if test(mode):
+            return name
+    return "not a regular file"
+
+
+def _read_text(path: str) -> str:
+    """The text of a regular case file: stat first (no side effects), then a
+    non-blocking open that is checked again (the path may change in between),
+    and at most :data:`MAX_CASE_BYTES` + 1 bytes read."""
+    try:
+        info = os.stat(path)
+        if not stat.S_ISREG(info.st_mode):
+            raise CaseError(f"is {_file_kind(info.st_mode)}; allowed: {_ALLOWED_FILE}", file=path)
+        if info.st_size > MAX_CASE_BYTES:
+            raise CaseError(f"too large ({info.st_size} bytes); allowed: {_ALLOWED_FILE}", file=path)
+        flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) | getattr(os, "O_CLOEXEC", 0)
+        fd = os.open(path, flags)
+        try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                raise CaseError(f"is {_file_kind(os.fstat(fd).st_mode)}; allowed: {_ALLOWED_FILE}", file=path)
+            data = _read_at_most(fd, MAX_CASE_BYTES + 1)
+        finally:
+            os.close(fd)
+    except FileNotFoundError:
+        raise CaseError("file not found; allowed: a path to a TOML case file", file=path) from None
+    except OSError as err:
+        raise CaseError(f"cannot read ({err.strerror or err}); allowed: {_ALLOWED_FILE}", file=path) from None
+    except ValueError as err:  # a path with a NUL byte
+        raise CaseError(f"invalid path ({err}); allowed: a path to a TOML case file", file=path) from None
+    if len(data) > MAX_CASE_BYTES:
+        raise CaseError(f"too large (more than {MAX_CASE_BYTES} bytes); allowed: {_ALLOWED_FILE}", file=path)
+    try:
+        return data.decode("utf-8-sig")  # a leading byte-order mark is dropped
+    except UnicodeDecodeError as err:
+        raise CaseError(
+            f"not UTF-8 text (byte 0x{data[err.start]:02x} at offset {err.start}); allowed: a TOML case file",
+            file=path,
+        ) from None
+
+
+def _read_at_most(fd: int, limit: int) -> bytes:
+    parts = []
+    size = 0
+    while size < limit:
+        try:
+            chunk = os.read(fd, min(65536, limit - size))
+        except BlockingIOError:  # a regular file never blocks; be safe anyway
+            break
+        if not chunk:
+            break
+        parts.append(chunk)
+        size += len(chunk)
+    return b"".join(parts)
 
 
 def load_case(source: str | os.PathLike | dict) -> schema.Case:

@@ -15,12 +15,30 @@ from typing import Any
 
 from ..influence.choice import MODELS
 
+#: Magnitudes allowed for dimensional inputs (lengths, moduli, loads, penalties)
+#: in any consistent unit system. Any practical unit system fits (steel in Pa
+#: and m: E = 2e11, a = 1e-3); the solver forms products and squares of a few
+#: of them (p0^2 in the merit, E*/a in the penalty), which stay far from the
+#: double-precision overflow (1e308) and underflow (1e-308) within these limits.
+SMALLEST = 1e-30
+LARGEST = 1e30
+
+#: Friction coefficients: 0 (frictionless) or MU_SMALLEST..MU_LARGEST. With
+#: dissimilar bodies the adhesion slip is the difference of the coupling term
+#: B_tn p_n, of order (a/R), and terms of order mu (a/R): below mu ~ 1e-6 that
+#: difference is lost to rounding (relative error eps/mu > 1e-10, the default
+#: tolerance). No real pair has mu > 100 (that is full adhesion already).
+MU_SMALLEST = 1e-6
+MU_LARGEST = 100.0
+
 
 def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any) -> Any:
     """A dataclass field with validation rules in its metadata.
 
     Rules: ``kind`` ("float", "int", "str", "bool", "float_or_auto"),
-    ``choices``, ``gt``/``ge``/``lt``/``le`` bounds, ``allow_inf``.
+    ``choices``, ``gt``/``ge``/``lt``/``le`` bounds, ``allow_inf``,
+    ``zero_or_ge`` (0 or at least this), ``max_length`` (strings; control
+    characters are never allowed).
     """
     metadata = {"doc": doc, "required": required, **rules}
     return field(default=default, metadata=metadata)
@@ -35,13 +53,18 @@ class Body:
         None,
         doc="cylinder (outer) radius [length]; inf for a flat",
         kind="float",
-        gt=0.0,
+        ge=SMALLEST,
+        le=LARGEST,
         allow_inf=True,
         required=True,
     )
-    young: float | None = spec(None, doc="Young's modulus E [stress] (elastic, layered)", kind="float", gt=0.0)
+    young: float | None = spec(
+        None, doc="Young's modulus E [stress] (elastic, layered)", kind="float", ge=SMALLEST, le=LARGEST
+    )
     poisson: float | None = spec(None, doc="Poisson's ratio nu (elastic, layered)", kind="float", ge=0.0, le=0.5)
-    layer_thickness: float | None = spec(None, doc="layer thickness b [length] (layered)", kind="float", gt=0.0)
+    layer_thickness: float | None = spec(
+        None, doc="layer thickness b [length] (layered; b < radius)", kind="float", ge=SMALLEST, le=LARGEST
+    )
 
     @property
     def rigid(self) -> bool:
@@ -66,15 +89,25 @@ class Bodies:
 
 @dataclass(frozen=True)
 class Friction:
-    mu: float = spec(None, doc="Coulomb friction coefficient", kind="float", ge=0.0, required=True)
+    mu: float = spec(
+        None,
+        doc="Coulomb friction coefficient (0: frictionless)",
+        kind="float",
+        ge=0.0,
+        zero_or_ge=MU_SMALLEST,
+        le=MU_LARGEST,
+        required=True,
+    )
 
 
 @dataclass(frozen=True)
 class Normal:
     """Exactly one of ``load`` and ``overlap``."""
 
-    load: float | None = spec(None, doc="normal load P [force/length]", kind="float", gt=0.0)
-    overlap: float | None = spec(None, doc="imposed rigid overlap [length] (BEM only)", kind="float", gt=0.0)
+    load: float | None = spec(None, doc="normal load P [force/length]", kind="float", ge=SMALLEST, le=LARGEST)
+    overlap: float | None = spec(
+        None, doc="imposed rigid overlap [length] (BEM only)", kind="float", ge=SMALLEST, le=LARGEST
+    )
 
 
 @dataclass(frozen=True)
@@ -83,8 +116,10 @@ class Tangential:
 
     q_over_mu_p: float | None = spec(None, doc="Q / (mu P)", kind="float")
     q_over_p: float | None = spec(None, doc="Q / P", kind="float")
-    load: float | None = spec(None, doc="tangential force Q on body A [force/length]", kind="float")
-    creep: float | None = spec(None, doc="creepage xi = (V_A - V_B)/|V|", kind="float")
+    load: float | None = spec(
+        None, doc="tangential force Q on body A [force/length]", kind="float", ge=-LARGEST, le=LARGEST
+    )
+    creep: float | None = spec(None, doc="creepage xi = (V_A - V_B)/|V|", kind="float", ge=-1.0, le=1.0)
 
     def control(self) -> tuple[str, float]:
         """(kind, value) of the prescribed tangential quantity; ("load", 0) if none."""
@@ -129,9 +164,9 @@ class Discretization:
 
 @dataclass(frozen=True)
 class Solver:
-    tolerance: float = spec(1e-10, doc="relative residual tolerance", kind="float", gt=0.0, lt=1.0)
+    tolerance: float = spec(1e-10, doc="relative residual tolerance", kind="float", ge=1e-14, le=1e-3)
     max_iterations: int = spec(100, doc="Newton iteration cap", kind="int", ge=1, le=100000)
-    penalty: Any = spec("auto", doc='penalty r_t [stress] or "auto"', kind="float_or_auto", gt=0.0)
+    penalty: Any = spec("auto", doc='penalty r_t [stress] or "auto"', kind="float_or_auto", ge=SMALLEST, le=LARGEST)
 
 
 @dataclass(frozen=True)
@@ -141,8 +176,8 @@ class Effects:
 
 @dataclass(frozen=True)
 class Units:
-    length: str = spec("mm", doc="length unit name (labels only)", kind="str")
-    force: str = spec("N", doc="force unit name (labels only)", kind="str")
+    length: str = spec("mm", doc="length unit name (labels only)", kind="str", max_length=40)
+    force: str = spec("N", doc="force unit name (labels only)", kind="str", max_length=40)
 
     @property
     def stress(self) -> str:
@@ -155,7 +190,7 @@ class Units:
 
 @dataclass(frozen=True)
 class Output:
-    file: str | None = spec(None, doc="result file (default: the case name with .h5)", kind="str")
+    file: str | None = spec(None, doc="result file (default: the case name with .h5)", kind="str", max_length=4096)
 
 
 @dataclass(frozen=True)
@@ -172,5 +207,5 @@ class Case:
     effects: Effects = spec(None, doc="effect selection", kind="table")
     units: Units = spec(None, doc="unit names", kind="table")
     output: Output = spec(None, doc="output", kind="table")
-    title: str | None = spec(None, doc="case title", kind="str")
+    title: str | None = spec(None, doc="case title", kind="str", max_length=1000)
     source: str | None = field(default=None, metadata={"internal": True})

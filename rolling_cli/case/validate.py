@@ -13,7 +13,7 @@ import difflib
 import math
 from typing import Any
 
-from ..errors import CaseError
+from ..errors import CONTROL_CHARACTERS, CaseError
 from ..influence.choice import influence_model
 from . import schema
 
@@ -24,8 +24,10 @@ def _show(value: Any) -> str:
     elif isinstance(value, dict):
         text = "{" + ", ".join(sorted(value)) + "}"
     else:
-        text = repr(value)
-    text = text.replace("\n", " ")
+        try:
+            text = repr(value)
+        except (ValueError, RecursionError):  # an integer too long to print, a deeply nested array
+            text = f"<{type(value).__name__}>"
     return text if len(text) <= 60 else text[:57] + "..."
 
 
@@ -36,8 +38,10 @@ def _fail(file: str | None, key: str, value: Any, problem: str, allowed: str) ->
 def _bounds_text(meta: dict) -> str:
     parts = []
     for rule, sym in (("gt", ">"), ("ge", ">="), ("lt", "<"), ("le", "<=")):
-        if rule in meta:
+        if rule in meta and not (rule == "ge" and "zero_or_ge" in meta):
             parts.append(f"{sym} {meta[rule]:g}")
+    if "zero_or_ge" in meta:
+        return f"0, or a number >= {meta['zero_or_ge']:g} and " + " and ".join(parts)
     return "a number " + " and ".join(parts) if parts else "a number"
 
 
@@ -54,7 +58,9 @@ def _allowed(meta: dict) -> str:
         return "an integer" + _bounds_text(meta)[len("a number") :]
     if kind == "bool":
         return "true | false"
-    return "a string"
+    if "max_length" in meta:
+        return f"a string of at most {meta['max_length']} characters, no control characters"
+    return "a string without control characters"
 
 
 def _check_bounds(value: float, meta: dict) -> bool:
@@ -77,11 +83,16 @@ def convert_scalar(value: Any, meta: dict, key: str, file: str | None) -> Any:
             value = math.inf
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise _fail(file, key, value, "wrong type", allowed)
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:  # an integer beyond the double range
+            raise _fail(file, key, value, "out of range", allowed) from None
         if math.isnan(value) or (math.isinf(value) and not meta.get("allow_inf")):
             raise _fail(file, key, value, "not a finite number", allowed)
         if not math.isinf(value) and not _check_bounds(value, meta):
             raise _fail(file, key, value, "out of range", allowed)
+        if 0.0 < abs(value) < meta.get("zero_or_ge", 0.0):
+            raise _fail(file, key, value, "too small to resolve in double precision", allowed)
         if math.isinf(value) and value < 0:
             raise _fail(file, key, value, "out of range", allowed)
         return value
@@ -91,6 +102,10 @@ def convert_scalar(value: Any, meta: dict, key: str, file: str | None) -> Any:
     elif kind == "str":
         if not isinstance(value, str):
             raise _fail(file, key, value, "wrong type", allowed)
+        if CONTROL_CHARACTERS.search(value):
+            raise _fail(file, key, value, "control characters (a line break, tab or NUL)", allowed)
+        if len(value) > meta.get("max_length", math.inf):
+            raise _fail(file, key, value, f"too long ({len(value)} characters)", allowed)
     elif kind == "bool":
         if not isinstance(value, bool):
             raise _fail(file, key, value, "wrong type", allowed)
@@ -182,6 +197,14 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
                     file=file,
                     key=f"{key}.layer_thickness",
                 )
+            if body.kind == "layered" and not body.layer_thickness < body.radius:
+                raise _fail(
+                    file,
+                    f"{key}.layer_thickness",
+                    body.layer_thickness,
+                    f"not thinner than the body (radius {body.radius:g})",
+                    f"a number < bodies.{label}.radius",
+                )
             if body.kind == "elastic" and body.layer_thickness is not None:
                 raise _fail(
                     file, f"{key}.layer_thickness", body.layer_thickness, 'not used by kind = "elastic"', "remove it"
@@ -199,6 +222,7 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
             key="bodies.B.radius",
         )
     _one_of(case.normal, ("load", "overlap"), "normal", file, required=True)
+    _check_overlap(case, file)
     _one_of(case.tangential, ("q_over_mu_p", "q_over_p", "load", "creep"), "tangential", file, required=False)
     disc = case.discretization
     layered = any(getattr(case.bodies, n).kind == "layered" for n in ("A", "B"))
@@ -226,6 +250,23 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
     kind, value = case.tangential.control()
     if kind == "q_over_mu_p" and mu == 0.0:
         raise _fail(file, "tangential.q_over_mu_p", value, "undefined for friction.mu = 0", "tangential.load or creep")
+
+
+def _check_overlap(case: schema.Case, file: str | None) -> None:
+    """An imposed overlap must be smaller than every radius and layer thickness: a
+    larger one would push a body through its own core or centre."""
+    overlap = case.normal.overlap
+    if overlap is None:
+        return
+    limits = []
+    for label in ("A", "B"):
+        body = getattr(case.bodies, label)
+        limits.append((float(body.radius), f"bodies.{label}.radius"))
+        if body.kind == "layered":
+            limits.append((float(body.layer_thickness), f"bodies.{label}.layer_thickness"))
+    limit, name = min(limits)
+    if not overlap < limit:
+        raise _fail(file, "normal.overlap", overlap, f"not smaller than {name} = {limit:g}", f"a number < {limit:g}")
 
 
 def field_metadata(dotted: str) -> dict:

@@ -1,0 +1,462 @@
+"""Memory and work of one solve, estimated before anything is allocated.
+
+:func:`check_resources` refuses a case whose estimated peak memory exceeds
+what the machine can give this process (:func:`available_memory`), with a
+one-line :class:`~rolling_cli.errors.CaseError` naming the key that drives the
+size, the estimate and the memory available. :func:`estimate` is a small
+explicit model of the arrays each stage holds at its peak, counted in 8-byte
+doubles (n contact nodes, N boundary nodes and E elements of a BEM body, n_c
+contact nodes in the Newton system, m the size of the reduced Newton matrix):
+
+* **half-plane influence** (:mod:`~rolling_cli.influence.halfplane`):
+  S_nn and S_tt (= -S_nn), plus the shared S_nt = S_tn when coupled:
+  (2 + coupled) n^2.
+* **BEM body** (:mod:`~rolling_cli.influence.bem`), the larger of
+  assembly, 36 N E + 10 N^2 (the element-node integrals of H and G, 12 N E
+  each, their scatter copy, H, and G's scatter buffers), and condensation,
+  20 N^2 + 8 N n (H, G, the system A and B, A's LAPACK copy, two copies of
+  the 2 n right-hand sides), plus :data:`BEM_CHUNK` for the vectorised
+  quadrature of one chunk; then 4 n^2 (its four blocks) are kept.
+* **pair and system**: the pair blocks (2 + 2 coupled) n^2 for BEM (the
+  half-plane blocks are the pair's already), and B_tt (+ B_tn) n^2; the
+  "element" slip derivative adds 2 n^2 of temporaries while it is built.
+* **Newton** (:mod:`~rolling_cli.solver.newton`): the reduced matrix m^2, its
+  LAPACK copy m^2 and 2 n_c^2 of gathered blocks, with n_c = n / zone (the
+  Hertz contact) and m = n_c (decoupled: normal and tangential solves apart)
+  or 2 n_c (coupled, every contact node adhering at worst).
+* **pre-solve** (an overlap, or a layer): coarse BEM solves measure a before
+  the mesh is made (:func:`rolling_cli.pipeline.estimate_half_width`); their
+  meshes are counted the same way (the first trial), and a is taken as
+  :func:`rolling_cli.pipeline.first_guess`.
+
+Measured peak RSS stays within :data:`ALLOCATOR_MARGIN` of the traced arrays
+(allocator and LAPACK workspace; ``tests/test_resources.py``,
+``benchmarks/bench_resources.py``). Not counted: a second attempt after the
+potential zone is enlarged (the first one's influence stays memoised), the
+``--error-estimate`` re-solve (a quarter of the size), and sweeps' several
+workers (pass ``copies``).
+
+The work is a rough count of floating-point operations: BEM assembly
+(:data:`KERNEL_FLOPS` per quadrature point and node-element pair), LU
+factorisations (2/3 k^3) and :data:`NEWTON_ITERATIONS` Newton iterations.
+When a change makes the code allocate differently (issue #14: a matrix-free
+half-plane path), update the stage functions here and the measurement test
+says whether the model still holds.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import resource
+from dataclasses import dataclass
+
+from . import materials
+from .errors import CaseError
+
+#: Peak RSS over the traced arrays of the model (allocator, LAPACK workspace,
+#: small arrays): measured 1.00-1.20 on the test sizes; the estimate includes it.
+ALLOCATOR_MARGIN = 1.2
+
+#: Newton iterations assumed by the work estimate (the test cases take 2-15).
+NEWTON_ITERATIONS = 10
+
+#: Floating-point operations per quadrature point of one BEM collocation-element
+#: pair (Kelvin's 2x2 U and T kernels and the contraction with 3 shape functions).
+KERNEL_FLOPS = 150
+
+#: Gauss points per regular BEM element (``influence.bem.assembly.GAUSS``).
+BEM_GAUSS = 10
+
+#: Temporaries of one vectorised BEM quadrature chunk [doubles] (the chunk is
+#: ``influence.bem.assembly._CHUNK`` quadrature points; measured on small meshes).
+BEM_CHUNK = 1.5e6
+
+#: Element growth of the BEM mesh away from the zone (``influence.bem.mesh.rectangle``).
+BEM_GROWTH = 1.4
+
+_DOUBLE = 8
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """Estimated peak memory [bytes] and work [floating-point operations] of one solve.
+
+    ``stage`` names the stage that sets the peak, ``nodes`` the contact nodes n,
+    ``boundary_nodes`` the largest BEM body's N (0 without BEM), ``key`` the
+    dotted case key that drives the size.
+    """
+
+    bytes: float
+    flops: float
+    stage: str
+    nodes: int
+    boundary_nodes: int
+    key: str
+
+    def describe(self) -> str:
+        """One phrase: the model size behind the estimate."""
+        text = f"{_count(self.nodes)} contact nodes"
+        if self.boundary_nodes:
+            text += f", {_count(self.boundary_nodes)} BEM boundary nodes"
+        return f"{text}; peak in {self.stage}"
+
+    def as_dict(self) -> dict:
+        """The estimate as ``rollc check`` prints it (bytes, floating-point operations)."""
+        available = available_memory()
+        out = {"memory_estimate": float(self.bytes), "work_estimate": float(self.flops)}
+        if available is not None:
+            out["memory_available"] = available
+        out["memory_note"] = self.describe()
+        return out
+
+
+def _count(value: int) -> str:
+    return str(value) if value < 1e6 else f"{value:.3g}"
+
+
+def estimate(case) -> Estimate:
+    """Peak memory and rough work of solving ``case`` once (see the module docstring).
+
+    Allocates nothing that grows with the mesh: the BEM meshes are counted,
+    not built.
+    """
+    from . import pipeline
+
+    a_body, b_body = case.bodies.A, case.bodies.B
+    e_star = materials.effective_modulus(a_body.modulus, a_body.ratio, b_body.modulus, b_body.ratio)
+    r_star = materials.effective_radius(a_body.radius, b_body.radius)
+    half_width = pipeline.first_guess(case, e_star, r_star)
+    stages: list[tuple[str, float, float, int, int, str]] = []  # name, doubles, flops, n, N, key
+    if case.normal.load is None or _layered(case):
+        stages.append(_presolve(case, half_width))
+    stages.append(_main(case, half_width))
+    name, doubles, _, nodes, boundary, key = max(stages, key=lambda s: s[1])
+    flops = sum(s[2] for s in stages)
+    return Estimate(ALLOCATOR_MARGIN * _DOUBLE * doubles, flops, name, nodes, boundary, key)
+
+
+def _layered(case) -> bool:
+    return case.bodies.A.kind == "layered" or case.bodies.B.kind == "layered"
+
+
+def _main(case, half_width: float) -> tuple[str, float, float, int, int, str]:
+    """The solve on the case's own mesh, a = ``half_width``."""
+    from .pipeline import SEQUENCING_ELEMENTS, plan
+
+    disc = case.discretization
+    the_plan = plan(case, half_width=half_width, check=False)
+    n = the_plan.grid.size
+    coupled = the_plan.effects.coupling
+    stages, flops, boundary, key = _influence(case, the_plan)
+    kept = _kept_influence(case, the_plan)
+    system = (1 + coupled) * n**2
+    if disc.slip_derivative == "element":
+        stages.append(("the contact system", kept + system + 2 * n**2))
+    newton, newton_flops = _newton(n, disc.zone, the_plan.effects.strategy == "coupled")
+    if disc.influence == "half-plane" and coupled and disc.contact_elements >= SEQUENCING_ELEMENTS:
+        kept += kept / 16.0  # grid sequencing: the coarse grid's influence stays memoised
+    stages.append(("Newton", kept + system + newton))
+    name, doubles = max(stages, key=lambda s: s[1])
+    return name, doubles, flops + newton_flops, n, boundary, key
+
+
+def _influence(case, the_plan) -> tuple[list[tuple[str, float]], float, int, str]:
+    """Peak stages of the influence build, its work, the largest BEM N and the driving key."""
+    n = the_plan.grid.size
+    coupled = the_plan.effects.coupling
+    if the_plan.effects.influence == "half-plane":
+        return [("the half-plane influence", (2 + coupled) * n**2)], 10.0 * n**2, 0, "discretization.contact_elements"
+    stages = []
+    flops = 0.0
+    kept = 0.0
+    boundary = 0
+    key = "discretization.contact_elements"
+    for label in _computed_bodies(case, the_plan):
+        body = getattr(case.bodies, label)
+        big_n, big_e = body_mesh_size(case, the_plan, body)
+        peak = max(36.0 * big_n * big_e + 10.0 * big_n**2, 20.0 * big_n**2 + 8.0 * big_n * n) + BEM_CHUNK
+        stages.append((f"the BEM influence of body {label}", kept + peak))
+        flops += big_n * big_e * BEM_GAUSS * KERNEL_FLOPS + (2.0 / 3.0) * (2.0 * big_n) ** 3 + 8.0 * big_n**2 * n
+        kept += 4 * n**2
+        if big_n > boundary:
+            boundary = big_n
+            if body.kind == "layered" and big_n - n > n:
+                key = f"bodies.{label}.layer_thickness"
+    return stages, flops, boundary, key
+
+
+def _computed_bodies(case, the_plan) -> list[str]:
+    """The bodies whose BEM influence is computed (not rigid, not a reused twin)."""
+    labels = [label for label in ("A", "B") if not getattr(case.bodies, label).rigid]
+    if the_plan.effects.identical_bodies and len(labels) == 2:
+        labels = ["A"]
+    return labels
+
+
+def _kept_influence(case, the_plan) -> float:
+    """Influence arrays held through the solve [doubles]: memoised bodies and the pair."""
+    n = the_plan.grid.size
+    coupled = the_plan.effects.coupling
+    if the_plan.effects.influence == "half-plane":
+        return (2 + coupled) * n**2
+    bodies = len(_computed_bodies(case, the_plan))
+    return 4 * bodies * n**2 + (2 + 2 * coupled) * n**2
+
+
+def _newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
+    """Peak doubles and work of the Newton iterations on n nodes."""
+    contact = n / zone
+    size = 2 * contact if coupled else contact
+    doubles = 2 * size**2 + 2 * contact**2
+    flops = NEWTON_ITERATIONS * ((2.0 / 3.0) * size**3 + 8.0 * n**2)
+    return doubles, flops
+
+
+def _presolve(case, guess: float) -> tuple[str, float, float, int, int, str]:
+    """The first coarse frictionless pre-solve that measures a (BEM, zone PRESOLVE_ZONE guesses)."""
+    from .pipeline import PRESOLVE_ZONE, presolve_case
+
+    trial = presolve_case(case, guess, PRESOLVE_ZONE)
+    _, doubles, flops, n, boundary, key = _main(trial, guess)
+    if key == "discretization.contact_elements" and not _layered(case):
+        key = "normal.overlap"
+    return "the pre-solve that measures a", doubles, flops, n, boundary, key
+
+
+def body_mesh_size(case, the_plan, body) -> tuple[int, int]:
+    """Boundary nodes N and elements E of a body's BEM mesh, counted without building it.
+
+    The geometry is :func:`rolling_cli.influence.build.bem_inputs`'; the counts
+    follow :func:`rolling_cli.influence.bem.mesh.rectangle` (tested against it).
+    """
+    from .influence.build import bem_inputs
+
+    inputs = bem_inputs(case, the_plan, body)
+    largest = inputs["depth"] if inputs["kind"] == "layered" else None
+    return rectangle_size(inputs["zone_half_width"], inputs["elements"], inputs["half_width"], inputs["depth"], largest)
+
+
+def rectangle_size(
+    zone_half_width: float, elements: int, half_width: float, depth: float, largest: float | None = None
+) -> tuple[int, int]:
+    """Nodes and elements of ``rectangle(half_width, depth, zone edges, largest=largest)`` [-]."""
+    h = 2.0 * zone_half_width / elements
+    big = largest if largest is not None else min(depth, half_width) / 4.0
+    bottom, _ = graded_count(half_width, min(big, max(h, depth / 8.0)), BEM_GROWTH, big)
+    top, corner = graded_count(half_width - zone_half_width, h, BEM_GROWTH, big)
+    side, _ = graded_count(depth, corner, BEM_GROWTH, big)
+    segments = (2 * bottom, side, top, top, side)  # bottom, right side, top right, top left, left side
+    nodes = sum(2 * k + 1 for k in segments) + 3 * elements
+    return int(nodes), int(sum(segments) + elements)
+
+
+def graded_count(length: float, first: float, growth: float, largest: float) -> tuple[int, float]:
+    """Edges of :func:`rolling_cli.influence.bem.mesh.graded_edges` over ``length``, and
+    its last edge length, in closed form (sizes first * growth^k capped at ``largest``)."""
+    target = length * (1.0 - 1e-9)
+    first = min(first, largest)
+    if not target > 0.0:  # nothing to mesh (a layer thinner than the rounding of the zone's width)
+        return 0, first
+    growing = 0 if first >= largest else math.ceil(math.log(largest / first) / math.log(growth))
+    grown = first * (growth**growing - 1.0) / (growth - 1.0)  # the growing sizes' sum
+    if grown >= target:
+        count = max(1, math.ceil(math.log1p(target * (growth - 1.0) / first) / math.log(growth)))
+        total = first * (growth**count - 1.0) / (growth - 1.0)
+        last = first * growth ** (count - 1)
+    else:
+        count = growing + math.ceil((target - grown) / largest)
+        total = grown + (count - growing) * largest
+        last = largest
+    if count > 1 and total - length > 0.5 * last:
+        total -= last
+        count -= 1
+        last = first * growth ** (count - 1) if count <= growing else largest
+    return count, last * length / total
+
+
+def available_memory() -> float | None:
+    """Memory this process can still allocate [bytes], or None when unknown.
+
+    The smallest of: the kernel's MemAvailable, the free part of the memory
+    cgroup's limit (v1 or v2, the process's group and its parents), and the
+    address-space and data-segment limits (``ulimit -v``, ``-d``) minus what
+    the process already uses.
+    """
+    candidates = []
+    meminfo = _read_kib("/proc/meminfo")
+    if "MemAvailable" in meminfo:
+        candidates.append(meminfo["MemAvailable"])
+    candidates.extend(_cgroup_free())
+    status = _read_kib("/proc/self/status")
+    for limit, used in ((resource.RLIMIT_AS, "VmSize"), (resource.RLIMIT_DATA, "VmData")):
+        soft = resource.getrlimit(limit)[0]
+        if soft != resource.RLIM_INFINITY and used in status:
+            candidates.append(max(0.0, soft - status[used]))
+    if not candidates:
+        try:
+            candidates.append(float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")))
+        except (ValueError, OSError, AttributeError):
+            return None
+    return float(min(candidates))
+
+
+def _read_kib(path: str) -> dict[str, float]:
+    """``Name: value kB`` lines of a /proc file, in bytes ({} if unreadable)."""
+    out = {}
+    try:
+        with open(path) as handle:
+            for line in handle:
+                name, _, rest = line.partition(":")
+                parts = rest.split()
+                if len(parts) == 2 and parts[1] == "kB" and parts[0].isdigit():
+                    out[name] = 1024.0 * int(parts[0])
+    except OSError:
+        pass
+    return out
+
+
+def _read_number(path: str) -> float | None:
+    try:
+        with open(path) as handle:
+            text = handle.read().strip()
+        return float(text) if text.isdigit() else None
+    except OSError:
+        return None
+
+
+def _cgroup_free() -> list[float]:
+    """Limit minus non-reclaimable usage of each limited memory cgroup of this process [bytes]."""
+    free = []
+    try:
+        with open("/proc/self/cgroup") as handle:
+            lines = handle.read().splitlines()
+    except OSError:
+        return free
+    for line in lines:
+        _, controllers, path = line.split(":", 2)
+        if controllers == "":  # v2
+            root, names = "/sys/fs/cgroup", ("memory.max", "memory.current", "inactive_file")
+        elif "memory" in controllers.split(","):
+            root = "/sys/fs/cgroup/memory"
+            names = ("memory.limit_in_bytes", "memory.usage_in_bytes", "total_inactive_file")
+        else:
+            continue
+        parts = [p for p in path.split("/") if p]
+        for depth in range(len(parts), -1, -1):
+            group = os.path.join(root, *parts[:depth])
+            limit = _read_number(os.path.join(group, names[0]))
+            usage = _read_number(os.path.join(group, names[1]))
+            if limit is None or usage is None or limit >= 2.0**60:
+                continue
+            inactive = 0.0
+            try:
+                with open(os.path.join(group, "memory.stat")) as handle:
+                    for stat_line in handle:
+                        key, _, value = stat_line.partition(" ")
+                        if key == names[2] and value.strip().isdigit():
+                            inactive = float(value)
+            except OSError:
+                pass
+            free.append(max(0.0, limit - max(0.0, usage - inactive)))
+    return free
+
+
+def format_bytes(value: float) -> str:
+    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
+        if value >= size:
+            return f"{value / size:.3g} {unit}"
+    return f"{value / 1e3:.3g} kB"
+
+
+def _largest_fitting(case, budget: float) -> int:
+    """The most contact elements whose estimate fits ``budget`` [bytes] (0 if none)."""
+    disc = case.discretization
+
+    def fits(count: int) -> bool:
+        trial = dataclasses.replace(case, discretization=dataclasses.replace(disc, contact_elements=count))
+        return estimate(trial).bytes <= budget
+
+    low, high = 2, disc.contact_elements
+    if not fits(low):
+        return 0
+    while high - low > 1:
+        mid = (low + high) // 2
+        low, high = (mid, high) if fits(mid) else (low, mid)
+    return low
+
+
+def check_resources(case, copies: int = 1) -> Estimate:
+    """Refuse ``case`` before any allocation when ``copies`` solves of it at once
+    (sweep workers) would not fit in :func:`available_memory`, or when its layer
+    would certainly fail the element rule after the costly pre-solve
+    (:func:`check_layer_elements`); return the estimate.
+
+    Raises :class:`CaseError` (exit code 2) naming the driving key, the
+    estimate and the available memory.
+    """
+    found = estimate(case)
+    available = available_memory()
+    if available is None or found.bytes * copies <= available:
+        check_layer_elements(case)
+        return found
+    value = _dotted(case, found.key)
+    need = f"{format_bytes(found.bytes)} of memory"
+    if copies > 1:
+        need += f", {format_bytes(found.bytes * copies)} for {copies} workers"
+    if found.key == "discretization.contact_elements":
+        fitting = _largest_fitting(case, available / copies)
+        allowed = f"at most {fitting} contact elements on this machine" if fitting else "a smaller case"
+    elif found.key.endswith("layer_thickness"):
+        allowed = "a thicker layer, or a shorter discretization.layer_length or zone"
+    else:
+        allowed = "a smaller overlap, or fewer contact elements"
+    raise CaseError(
+        f"{found.key} = {value:g}: the solve needs about {need} ({found.describe()}), "
+        f"more than the {format_bytes(available)} available; allowed: {allowed}",
+        file=case.source,
+        key=found.key,
+    )
+
+
+#: The pre-flight layer check allows a contact this much narrower than the first guess
+#: (the guess is within 0.8-1.2 of the measured a for b/a = 0.02-0.5, nu = 0.3-0.5).
+GUESS_MARGIN = 2.0
+
+
+def check_layer_elements(case) -> None:
+    """Refuse a layered case whose contact elements would exceed half the layer
+    thickness even if the contact were :data:`GUESS_MARGIN` times narrower than its
+    first guess: :func:`rolling_cli.pipeline.plan` would refuse it anyway, but only
+    after the pre-solve that measures a (issue #15: 100 s and 6 GB for b = 1e-6)."""
+    from . import pipeline
+
+    layers = [(label, getattr(case.bodies, label)) for label in ("A", "B")]
+    layers = [(label, body) for label, body in layers if body.kind == "layered"]
+    if not layers:
+        return
+    a_body, b_body = case.bodies.A, case.bodies.B
+    e_star = materials.effective_modulus(a_body.modulus, a_body.ratio, b_body.modulus, b_body.ratio)
+    r_star = materials.effective_radius(a_body.radius, b_body.radius)
+    smallest = pipeline.first_guess(case, e_star, r_star) / GUESS_MARGIN
+    disc = case.discretization
+    for label, body in layers:
+        limit = pipeline.LAYER_ELEMENT_FRACTION * float(body.layer_thickness)
+        needed = math.ceil(2.0 * disc.zone * smallest / limit)
+        if disc.contact_elements < needed:
+            raise CaseError(
+                f"discretization.contact_elements = {disc.contact_elements}: too few for the layer of "
+                f"bodies.{label} (b = {float(body.layer_thickness):g}): elements must be at most b/2 long, and the "
+                f"contact half-width is about {GUESS_MARGIN * smallest:.3g} (thin-layer estimate); allowed: >= "
+                f"{needed} elements (at least; a is estimated), or a thicker layer",
+                file=case.source,
+                key="discretization.contact_elements",
+            )
+
+
+def _dotted(case, key: str) -> float:
+    node = case
+    for part in key.split("."):
+        node = getattr(node, part)
+    return node
