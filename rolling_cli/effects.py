@@ -159,5 +159,11 @@ def decide(case: Case) -> Effects:
                 model = "BEM layer" if body.kind == "layered" else "BEM block"
                 notes[f"influence {label}"] = f"simulated: {model}"
 
+    if case.stresses is None:
+        notes["stresses"] = "skipped: not requested (no [stresses] table)"
+    else:
+        from .stresses.report import planned_note
+
+        notes["stresses"] = planned_note(case)
     strategy = "coupled" if coupling else ("decoupled" if tangential else "normal")
     return Effects(strategy, coupling, tangential, same, notes, tuple(warnings))

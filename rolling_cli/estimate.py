@@ -23,7 +23,9 @@ def half_mesh_case(case: Case) -> Case:
     """The case with half the contact elements (at least 2)."""
     disc = case.discretization
     return dataclasses.replace(
-        case, discretization=dataclasses.replace(disc, contact_elements=max(2, disc.contact_elements // 2))
+        case,
+        discretization=dataclasses.replace(disc, contact_elements=max(2, disc.contact_elements // 2)),
+        stresses=None,
     )
 
 

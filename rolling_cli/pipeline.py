@@ -29,6 +29,7 @@ from .result import Result, node_states, utc_timestamp
 from .solver.control import Controls, solve_rolling
 from .solver.initial import carter_ratio_for_creep, cold_start
 from .solver.newton import State
+from .stresses import power
 from .system import ContactSystem, build_system
 
 log = logging.getLogger(__name__)
@@ -310,7 +311,7 @@ def _sequenced_start(case: Case, the_plan: Plan, system: ContactSystem) -> tuple
     ):
         return initial_state(case, the_plan, system), []
     coarse_case = dataclasses.replace(
-        case, discretization=dataclasses.replace(disc, contact_elements=disc.contact_elements // 4)
+        case, discretization=dataclasses.replace(disc, contact_elements=disc.contact_elements // 4), stresses=None
     )
     try:
         coarse = solve(coarse_case)
@@ -471,6 +472,10 @@ def _solve_once(
     result.attributes["time_solve"] = t2 - t1
     if converged:
         check_zone(result, system)
+    if case.stresses is not None:
+        from .stresses import attach
+
+        result = attach(case, the_plan, result)
     return result
 
 
@@ -506,6 +511,8 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
     w = system.weights
     p_n, p_t = state.p_n, state.p_t
     states = node_states(p_n, stick)
+    s_t = system.reported_slip(p_n, p_t, state.creep)
+    dissipation = power.density(p_t, s_t, states)
     load = float(-(w @ p_n))
     q = float(w @ p_t)
     mu = case.friction.mu
@@ -562,6 +569,7 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         "unit_stress": case.units.stress,
         "unit_line_force": case.units.line_force,
         "bodies": f"A: {a.kind}, B: {b.kind}",
+        "frictional_power_total": power.total(w, dissipation),
     }
     reference = {}
     similar = (
@@ -582,12 +590,13 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
         p_n=p_n,
         p_t=p_t,
         delta_n=system.gap(p_n, p_t, state.overlap),
-        s_t=system.reported_slip(p_n, p_t, state.creep),
+        s_t=s_t,
         state=states,
         attributes=attrs,
         history=history,
         reference=reference,
         case_toml=case_to_toml(case),
+        frictional_power=dissipation,
     )
 
 

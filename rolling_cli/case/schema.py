@@ -13,12 +13,16 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..errors import CaseError
+
 
 def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any) -> Any:
     """A dataclass field with validation rules in its metadata.
 
     Rules: ``kind`` ("float", "int", "str", "bool", "float_or_auto"),
-    ``choices``, ``gt``/``ge``/``lt``/``le`` bounds, ``allow_inf``.
+    ``choices``, ``gt``/``ge``/``lt``/``le`` bounds, ``allow_inf``;
+    ``convert`` a function (value, dotted key, file) -> value for other
+    kinds (lists); ``optional`` on a table: None when the table is absent.
     """
     metadata = {"doc": doc, "required": required, **rules}
     return field(default=default, metadata=metadata)
@@ -129,6 +133,43 @@ class Effects:
     coupling: str = spec("auto", doc="normal-tangential coupling", kind="str", choices=("auto", "on", "off"))
 
 
+def _grid_points(value: Any, key: str, file: str | None) -> tuple[int, int]:
+    """[stresses] points: two integers (x, z), each 2..4001, at most 4e6 points in all."""
+    allowed = "[nx, nz], integers 3 <= nx <= 4001 and 2 <= nz <= 4001, nx nz <= 4000000"
+    ok = isinstance(value, (list, tuple)) and len(value) == 2 and all(type(v) is int for v in value)
+    if not ok or not (3 <= value[0] <= 4001 and 2 <= value[1] <= 4001 and value[0] * value[1] <= 4_000_000):
+        raise CaseError(f"{key} = {value!r}: not a valid field grid; allowed: {allowed}", file=file, key=key)
+    return (value[0], value[1])
+
+
+def _body_labels(value: Any, key: str, file: str | None) -> tuple[str, ...]:
+    """[stresses] bodies: a non-empty list of distinct "A" and "B"."""
+    ok = isinstance(value, (list, tuple)) and value and all(v in ("A", "B") for v in value)
+    ok = ok and len(set(value)) == len(value)
+    if not ok:
+        raise CaseError(
+            f'{key} = {value!r}: not a list of bodies; allowed: ["A"], ["B"] or ["A", "B"]', file=file, key=key
+        )
+    return tuple(value)
+
+
+@dataclass(frozen=True)
+class Stresses:
+    """Subsurface stress fields; computed only when the case has a [stresses] table."""
+
+    depth: float = spec(
+        3.0,
+        doc="field depth below each surface / a (a layer: down to its bond line at most)",
+        kind="float",
+        gt=0.0,
+        le=100.0,
+    )
+    points: tuple = spec((201, 101), doc="field grid points [nx, nz]", convert=_grid_points)
+    bodies: tuple = spec(
+        ("A", "B"), doc='bodies whose fields are computed ("A", "B"; rigid ones are skipped)', convert=_body_labels
+    )
+
+
 @dataclass(frozen=True)
 class Units:
     length: str = spec("mm", doc="length unit name (labels only)", kind="str")
@@ -162,5 +203,6 @@ class Case:
     effects: Effects = spec(None, doc="effect selection", kind="table")
     units: Units = spec(None, doc="unit names", kind="table")
     output: Output = spec(None, doc="output", kind="table")
+    stresses: Stresses | None = spec(None, doc="subsurface stresses (only when given)", kind="table", optional=True)
     title: str | None = spec(None, doc="case title", kind="str")
     source: str | None = field(default=None, metadata={"internal": True})
