@@ -246,3 +246,17 @@ def test_frictional_power_balances_the_creep_force_power_at_first_order():
         errors.append(result.frictional_power_total - exact)
     assert abs(errors[1]) <= 0.55 * abs(errors[0])
     assert abs(2 * errors[1] - errors[0]) <= 0.1 * abs(errors[1])
+
+
+def test_the_shipped_case_and_the_readme_commands(tmp_path, monkeypatch):
+    """`rollc solve cases/carter_stresses.toml` then `rollc plot carter_stresses.h5 --stresses` (README)."""
+    from pathlib import Path
+
+    monkeypatch.chdir(tmp_path)
+    case = Path(__file__).resolve().parents[1] / "cases" / "carter_stresses.toml"
+    solved = run_cli("solve", case)
+    assert solved.exit_code == 0, solved.output
+    for line in ("friction power", "von Mises      max 0.56", "orth. shear    range 0.50", "(body A)"):
+        assert line in solved.output
+    plotted = run_cli("plot", "carter_stresses.h5", "--stresses")
+    assert plotted.exit_code == 0 and (tmp_path / "carter_stresses_stresses.png").stat().st_size > 10_000
