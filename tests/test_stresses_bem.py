@@ -101,13 +101,16 @@ def _synthetic(case, a=1.0, p0=1000.0, ratio=0.51, mu=0.1):
     return the_plan, -hertz.pressure(x, a, p0), carter.traction(x, ratio, a, p0, mu, -1)
 
 
-def _bem_field(case, the_plan, p_n, p_t, label, points):
-    body = getattr(case.bodies, label)
+def _against_half_plane(case, the_plan, p_n, p_t, x, z):
+    """Body B's BEM field and the half-plane's on the grid z x x, (3, P) each in the (x, z) frame, and P."""
+    X, Z = np.meshgrid(x, z)
+    body = case.bodies.B
     mesh = boundary.body_mesh(case, the_plan, body)
-    q = p_t if label == "A" else -p_t
-    u, t = boundary.solve(mesh, body.young, body.poisson, np.stack([q, p_n], axis=1)[None])
-    s = bem.stresses(mesh, u[0], t[0], materials.shear_modulus(body.young, body.poisson), body.poisson, points)
-    return np.stack([s[0], s[1], -s[2]])  # (x, y = -z) -> (x, z)
+    u, t = boundary.solve(mesh, body.young, body.poisson, np.stack([-p_t, p_n], axis=1)[None])
+    shear = materials.shear_modulus(body.young, body.poisson)
+    s = bem.stresses(mesh, u[0], t[0], shear, body.poisson, np.stack([X.ravel(), -Z.ravel()], axis=1))
+    reference = np.stack(halfplane.stresses_at(the_plan.grid, p_n, -p_t, X.ravel(), Z.ravel()))
+    return np.stack([s[0], s[1], -s[2]]), reference, -the_plan.grid.weights @ p_n  # (x, y = -z) -> (x, z)
 
 
 def test_bem_block_fields_agree_with_the_half_plane_near_the_contact():
@@ -117,23 +120,19 @@ def test_bem_block_fields_agree_with_the_half_plane_near_the_contact():
     BEM's discretisation, estimated as the change from N = 30 to N = 60 contact elements (convergence is
     at least first order, so the error of the finer mesh is below that change). Points from one element
     length below the surface."""
-    x = np.linspace(-1.8, 1.8, 13)
-    z = np.linspace(0.1, 3.0, 8)
-    X, Z = np.meshgrid(x, z)
-    points = np.stack([X.ravel(), -Z.ravel()], axis=1)
+    x, z = np.linspace(-1.8, 1.8, 13), np.linspace(0.1, 3.0, 8)
     fields = []
     for elements in (30, 60):
         case = load_case(case_dict(**{"discretization.influence": "bem", "discretization.contact_elements": elements}))
         the_plan, p_n, p_t = _synthetic(case)
-        fields.append(_bem_field(case, the_plan, p_n, p_t, "B", points))
-    reference = np.stack(halfplane.stresses_at(the_plan.grid, p_n, -p_t, X.ravel(), Z.ravel()))
-    load = -the_plan.grid.weights @ p_n
+        found, reference, load = _against_half_plane(case, the_plan, p_n, p_t, x, z)
+        fields.append(found)
     truncation = 2 * load / (np.pi * case.discretization.block_width * the_plan.half_width)
     assert np.all(np.abs(fields[1] - reference) <= truncation + np.abs(fields[1] - fields[0]))
     assert np.abs(fields[1] - reference).max() <= 0.02 * 1000.0  # and that is small: 2 % of p0
 
 
-def _layer_case(thickness, elements=40, young=210000.0, poisson=0.3):
+def _layer_case(thickness, elements=40, young=210000.0, poisson=0.3, **dotted):
     layer = {"kind": "layered", "radius": 100.0, "young": young, "poisson": poisson, "layer_thickness": thickness}
     return load_case(
         case_dict(
@@ -142,6 +141,7 @@ def _layer_case(thickness, elements=40, young=210000.0, poisson=0.3):
                 "bodies.B": layer,
                 "discretization.influence": "bem",
                 "discretization.contact_elements": elements,
+                **dotted,
             }
         )
     )
@@ -151,17 +151,12 @@ def test_thick_layers_approach_the_half_space_fields():
     """A layer bonded to a rigid core, b = 4 a and 8 a, under the same tractions as a half-plane: near the
     contact (z <= a) its fields differ from the half-plane's by the effect of the bonded base, whose size is
     the Flamant stress at depth b, 2P/(pi b), and which halves (within 20 %) when b doubles."""
-    x = np.linspace(-1.5, 1.5, 13)
-    z = np.linspace(0.1, 1.0, 5)
-    X, Z = np.meshgrid(x, z)
-    points = np.stack([X.ravel(), -Z.ravel()], axis=1)
+    x, z = np.linspace(-1.5, 1.5, 13), np.linspace(0.1, 1.0, 5)
     worst = []
     for b in (4.0, 8.0):
         case = _layer_case(b)
         the_plan, p_n, p_t = _synthetic(case)
-        found = _bem_field(case, the_plan, p_n, p_t, "B", points)
-        reference = np.stack(halfplane.stresses_at(the_plan.grid, p_n, -p_t, X.ravel(), Z.ravel()))
-        load = -the_plan.grid.weights @ p_n
+        found, reference, load = _against_half_plane(case, the_plan, p_n, p_t, x, z)
         worst.append(np.abs(found - reference).max())
         assert worst[-1] <= 2 * load / (np.pi * b)
     assert worst[1] <= 0.6 * worst[0]
@@ -172,17 +167,7 @@ def test_layer_bond_line_carries_the_applied_loads():
     layer's slab equilibrium), up to the BEM's equilibrium error (measured 1e-7..1e-6 for 60-240 elements;
     tolerance 1e-5); the field's last row is the bond line, where sigma_xx = nu/(1 - nu) sigma_zz (u = 0), and
     on the surface tau_xz = +p_t on B and sigma_zz = p_n."""
-    case = load_case(
-        case_dict(
-            **{
-                "bodies.A": {"kind": "rigid", "radius": 100.0},
-                "bodies.B": {"kind": "layered", "radius": 100.0, "young": 10.0, "poisson": 0.3, "layer_thickness": 0.1},
-                "discretization.influence": "bem",
-                "discretization.contact_elements": 60,
-                "stresses": {"points": [41, 11]},
-            }
-        )
-    )
+    case = _layer_case(0.1, 60, young=10.0, stresses={"points": [41, 11]})
     the_plan, p_n, p_t = _synthetic(case, p0=1.0)
     bodies = compute.compute_stresses(case, the_plan, p_n, p_t)
     assert list(bodies) == ["B"]
