@@ -20,9 +20,7 @@ def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any)
     """A dataclass field with validation rules in its metadata.
 
     Rules: ``kind`` ("float", "int", "str", "bool", "float_or_auto"),
-    ``choices``, ``gt``/``ge``/``lt``/``le`` bounds, ``allow_inf``;
-    ``convert`` a function (value, dotted key, file) -> value for other
-    kinds (lists); ``optional`` on a table: None when the table is absent.
+    ``choices``, ``gt``/``ge``/``lt``/``le`` bounds, ``allow_inf``.
     """
     metadata = {"doc": doc, "required": required, **rules}
     return field(default=default, metadata=metadata)
@@ -134,7 +132,7 @@ class Effects:
 
 
 def _grid_points(value: Any, key: str, file: str | None) -> tuple[int, int]:
-    """[stresses] points: two integers (x, z), each 2..4001, at most 4e6 points in all."""
+    """[stresses] points: two integers, nx in 3..4001 and nz in 2..4001, at most 4e6 points in all."""
     allowed = "[nx, nz], integers 3 <= nx <= 4001 and 2 <= nz <= 4001, nx nz <= 4000000"
     ok = isinstance(value, (list, tuple)) and len(value) == 2 and all(type(v) is int for v in value)
     if not ok or not (3 <= value[0] <= 4001 and 2 <= value[1] <= 4001 and value[0] * value[1] <= 4_000_000):
@@ -155,7 +153,11 @@ def _body_labels(value: Any, key: str, file: str | None) -> tuple[str, ...]:
 
 @dataclass(frozen=True)
 class Stresses:
-    """Subsurface stress fields; computed only when the case has a [stresses] table."""
+    """Subsurface stress fields; computed only when the case has a [stresses] table.
+
+    Two more field rules serve it (:mod:`~rolling_cli.case.validate`): ``convert``, a function
+    (value, dotted key, file) -> value for the lists, and ``optional`` on the Case field: None when absent.
+    """
 
     depth: float = spec(
         3.0,
