@@ -26,11 +26,14 @@ displacement, so it needs no traction resultant and no strongly singular
 double layer. On a straight element with polynomial g and tau every integral
 is elementary, ``int f(xi)/(zeta_l - xi) d xi = f(zeta_l) L - 2 (f_1 + f_2 zeta_l)``
 with L = log((zeta_l + 1)/(zeta_l - 1)) and zeta_l the point in the element's
-local coordinate, and its zeta_l-derivative. So the identity is integrated in
-closed form for every (point, element) pair: exact for the interpolated
-boundary data at any distance from the boundary, which is the near-boundary
-treatment (no quadrature to grade, no singular subtraction needed). Rounding
-grows only like (element length / distance) near an element's end points.
+local coordinate, and its zeta_l-derivative. The elements are grouped by the
+straight side they lie on and each side is integrated at once in its own
+coordinate (the point at s + i d, d > 0 inside), by the Cauchy-integral
+engine the half-plane uses (:mod:`.cauchy`). The identity is thus exact for
+the interpolated boundary data at any distance from the boundary, which is
+the near-boundary treatment (no quadrature to grade, no singular subtraction
+needed); rounding grows only like (element length / distance) near an
+element's end points.
 
 On the boundary itself the stress follows from the traction and the
 tangential strain (:func:`boundary_stresses`): sigma_nn and sigma_sn are the
@@ -58,7 +61,8 @@ class BoundaryDensities:
     ``mid`` (E,) complex mid-points and ``turn`` (E,) unit tangents e^{i theta};
     ``half`` (E,) half-lengths [length]; ``traction`` (E, 3) and ``g`` (E, 3)
     complex monomial coefficients of tau(xi) [stress] and g(xi) [stress];
-    ``strain`` (E, 2) coefficients of dD/ds [-].
+    ``strain`` (E, 2) coefficients of dD/ds [-]; ``shear`` G [stress] and
+    ``poisson`` nu of the body.
     """
 
     mid: np.ndarray
@@ -67,6 +71,8 @@ class BoundaryDensities:
     traction: np.ndarray
     g: np.ndarray
     strain: np.ndarray
+    shear: float
+    poisson: float
 
 
 def densities(mesh: BoundaryMesh, u: np.ndarray, t: np.ndarray, shear: float, poisson: float) -> BoundaryDensities:
@@ -93,6 +99,8 @@ def densities(mesh: BoundaryMesh, u: np.ndarray, t: np.ndarray, shear: float, po
         traction=traction,
         g=g,
         strain=strain,
+        shear=shear,
+        poisson=poisson,
     )
 
 
@@ -130,25 +138,20 @@ def lines(data: BoundaryDensities) -> list[np.ndarray]:
     return [np.flatnonzero(group.ravel() == k) for k in range(group.max() + 1)]
 
 
-def boundary_stresses(data: BoundaryDensities, element: np.ndarray, xi: np.ndarray, poisson: float) -> np.ndarray:
+def boundary_stresses(data: BoundaryDensities, element: np.ndarray, xi: np.ndarray) -> np.ndarray:
     """(sigma_xx, sigma_yy, sigma_xy) [stress], shape (3, P), at boundary points given by element and local xi.
 
-    From the traction (sigma_nn, sigma_sn) and the tangential strain eps_ss of
-    the interpolated boundary solution; shear modulus and strain enter as
-    2 G eps_ss = Re(2 G dD/ds e^{-i theta}), recovered from g.
+    From the interpolated traction (sigma_nn, sigma_sn) and tangential strain
+    eps_ss = Re(dD/ds e^{-i theta}): sigma_ss = (2 G eps_ss + nu sigma_nn) / (1 - nu).
     """
     xi = np.asarray(xi, dtype=float)
-    turn = data.turn[element]
-    tau = ((data.traction[element, 2] * xi + data.traction[element, 1]) * xi + data.traction[element, 0]) * np.conj(
-        turn
-    )  # tau in the (s, n) frame: (sigma_sn, -sigma_nn)
-    kappa = 3.0 - 4.0 * poisson
-    g = (data.g[element, 2] * xi + data.g[element, 1]) * xi + data.g[element, 0]
-    two_g_strain = ((1.0 + kappa) * g - 1j * (tau * turn)) * np.conj(turn)  # 2 G dD/ds in the (s, n) frame
-    sigma_sn = tau.real
-    sigma_nn = -tau.imag
-    sigma_ss = (two_g_strain.real + poisson * sigma_nn) / (1.0 - poisson)
-    c, s = turn.real, turn.imag  # tangent (c, s), outward normal (s, -c)
+    back = np.conj(data.turn[element])
+    coeff = data.traction[element]
+    local = ((coeff[:, 2] * xi + coeff[:, 1]) * xi + coeff[:, 0]) * back  # tau in the (s, n) frame
+    strain = ((data.strain[element, 1] * xi + data.strain[element, 0]) * back).real
+    sigma_sn, sigma_nn = local.real, -local.imag  # outward normal n = -i e^{i theta}
+    sigma_ss = (2.0 * data.shear * strain + data.poisson * sigma_nn) / (1.0 - data.poisson)
+    c, s = back.real, -back.imag  # tangent (c, s), outward normal (s, -c)
     sxx = sigma_ss * c * c + sigma_nn * s * s + 2.0 * sigma_sn * c * s
     syy = sigma_ss * s * s + sigma_nn * c * c - 2.0 * sigma_sn * c * s
     sxy = (sigma_ss - sigma_nn) * c * s + sigma_sn * (s * s - c * c)
@@ -192,7 +195,7 @@ def stresses(mesh: BoundaryMesh, u: np.ndarray, t: np.ndarray, shear: float, poi
     on = element >= 0
     out = np.empty((3, points.shape[0]))
     if np.any(on):
-        out[:, on] = boundary_stresses(data, element[on], xi[on], poisson)
+        out[:, on] = boundary_stresses(data, element[on], xi[on])
     if np.any(~on):
         out[:, ~on] = interior_stresses(data, points[~on])
     return out

@@ -89,6 +89,8 @@ def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray) -> dict[s
     material share one boundary solve.
     """
     labels = [label for label in case.stresses.bodies if model_name(case, label) != "rigid"]
+    if not labels:
+        return {}
     if case.discretization.influence == "half-plane":
         components = _halfplane(case, the_plan, p_n, p_t, labels)
     else:
@@ -108,7 +110,7 @@ def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray) -> dict[s
 def _halfplane(case, the_plan, p_n, p_t, labels) -> dict:
     grid = the_plan.grid
     signs = [1.0 if label == "A" else -1.0 for label in labels]  # B carries -p_t
-    x, z = field_grid(case, the_plan, labels[0]) if labels else (np.zeros(0), np.zeros(0))
+    x, z = field_grid(case, the_plan, labels[0])  # the same grid for every half-plane body
     fields = halfplane.both_signs(grid, p_n, p_t, x[None, :], z[:, None], signs)
     surfaces = halfplane.both_signs(grid, p_n, p_t, grid.x, 0.0, signs)
     return {
@@ -121,23 +123,20 @@ def _bem(case, the_plan, p_n, p_t, labels) -> dict:
     grid = the_plan.grid
     out = {}
     solutions = _boundary_solutions(case, the_plan, p_n, p_t, labels)
-    surface = np.stack([grid.x, np.zeros(grid.size)], axis=1)
     for label in labels:
         body = getattr(case.bodies, label)
         mesh, u, t = solutions[label]
         shear, nu = materials.shear_modulus(float(body.young), float(body.poisson)), float(body.poisson)
         x, z = field_grid(case, the_plan, label)
         X, Z = np.meshgrid(x, z)
-        s = bem.stresses(mesh, u, t, shear, nu, np.stack([X.ravel(), -Z.ravel()], axis=1))
-        arrays = {
-            "x": x,
-            "z": z,
-            "surface_x": grid.x,
-            "surface_sigma_xx": bem.stresses(mesh, u, t, shear, nu, surface)[0],
-        }
+        points = np.concatenate([np.stack([X.ravel(), -Z.ravel()], axis=1), np.stack([grid.x, 0.0 * grid.x], axis=1)])
+        s = bem.stresses(mesh, u, t, shear, nu, points)  # the field, then the surface at the contact nodes
+        field, surface = s[:, : X.size], s[:, X.size :]
+        arrays = {"x": x, "z": z, "surface_x": grid.x, "surface_sigma_xx": surface[0]}
         if body.kind == "layered":
             arrays.update(bond_line(mesh, t))
-        out[label] = (arrays, (s[0].reshape(X.shape), s[1].reshape(X.shape), -s[2].reshape(X.shape)))  # z = -y
+        sxx, syy, sxy = (component.reshape(X.shape) for component in field)
+        out[label] = (arrays, (sxx, syy, -sxy))  # the mesh frame has y = -z
     return out
 
 
@@ -159,7 +158,7 @@ def derived(sigma_xx, sigma_zz, tau_xz, poisson: float) -> dict[str, np.ndarray]
 
 
 def bond_line(mesh, t: np.ndarray) -> dict[str, np.ndarray]:
-    """Normal and shear stress along a layer's bonded bottom (its fixed nodes), and their integrals.
+    """Normal and shear stress along a layer's bonded bottom (its fixed nodes), with integration weights.
 
     The layer's outward normal there is +z, so sigma_zz = -t_y and
     tau_xz = t_x of the BEM traction (mesh frame, y up). Returns the nodes'

@@ -56,6 +56,8 @@ def attach(case, the_plan, result):
 
     start = time.perf_counter()
     bodies = compute_stresses(case, the_plan, result.p_n, result.p_t)
+    if not bodies:  # only rigid bodies requested (the effects note says so)
+        return result
     a = float(the_plan.half_width)
     p0 = float(np.max(-result.p_n)) if np.any(result.p_n < 0.0) else math.nan
     for stresses in bodies.values():
