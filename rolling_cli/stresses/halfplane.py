@@ -43,7 +43,7 @@ def element_polynomials(grid: ContactGrid, values: np.ndarray) -> np.ndarray:
     ne, k = grid.elements, grid.nodes_per_element
     local = np.asarray(values, dtype=float).reshape(ne, k) @ shape_coefficients(grid.order)  # in xi = 2(s-m)/h
     out = np.zeros((ne, 3))
-    out[:, :k] = local * (2.0 / grid.element_length) ** np.arange(k)
+    out[:, :k] = local * (2.0 / np.diff(grid.edges))[:, None] ** np.arange(k)  # per element: graded grids too
     return out
 
 
