@@ -144,19 +144,27 @@ def check(case_file):
 @click.argument("result_file", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Figure file: .png, .pdf or .svg.")
 @click.option("--show", is_flag=True, help="Open the figure in a window.")
-def plot(result_file, output, show):
+@click.option(
+    "--stresses", is_flag=True, help="Contour maps of the subsurface stresses (default output: NAME_stresses.png)."
+)
+def plot(result_file, output, show, stresses):
     """Plot a result or sweep file (default output: the file's name with .png)."""
 
     def action():
         from .plot import FORMATS, plot_file
 
+        draw, stem = plot_file, os.path.splitext(result_file)[0]
+        if stresses:
+            from .plot_stresses import plot_stress_file as draw
+
+            stem += "_stresses"
         if not os.path.exists(result_file):
             raise CaseError("file not found; allowed: a result or sweep file written by rollc", file=result_file)
-        out = output or (None if show else os.path.splitext(result_file)[0] + ".png")
+        out = output or (None if show else stem + ".png")
         if out and os.path.splitext(out)[1].lower() not in FORMATS:
             raise CaseError(f"-o {out}: unsupported figure format; allowed: {', '.join(FORMATS)}")
         try:
-            plot_file(result_file, out, show)
+            draw(result_file, out, show)
         except (OSError, KeyError, ValueError) as err:
             raise CaseError(f"not a readable rolling_cli result or sweep file ({err})", file=result_file) from None
         if out:

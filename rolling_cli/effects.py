@@ -175,5 +175,11 @@ def decide(case: Case) -> Effects:
                 kind = "BEM layer on a rigid core" if body.kind == "layered" else "BEM half-space"
                 notes[f"influence {label}"] = f"simulated: {kind}"
 
+    if case.stresses is None:
+        notes["stresses"] = "skipped: not requested (no [stresses] table)"
+    else:
+        from .stresses.report import planned_note
+
+        notes["stresses"] = planned_note(case)
     strategy = "coupled" if coupling else ("decoupled" if tangential else "normal")
     return Effects(strategy, coupling, tangential, same, notes, tuple(warnings), model)

@@ -45,7 +45,9 @@ def half_mesh_case(case: Case) -> Case:
 def with_elements(case: Case, elements: int) -> Case:
     """The case with ``elements`` contact elements."""
     disc = case.discretization
-    return dataclasses.replace(case, discretization=dataclasses.replace(disc, contact_elements=elements))
+    return dataclasses.replace(
+        case, discretization=dataclasses.replace(disc, contact_elements=elements), stresses=None
+    )
 
 
 def add_error_estimate(case: Case, result: Result, use_cache: bool = True) -> Result:

@@ -90,6 +90,8 @@ def write_group(node, result: Result) -> None:
         "s_t": result.s_t,
         "state": result.state.astype(np.int8),
     }
+    if result.frictional_power is not None:
+        arrays["frictional_power"] = result.frictional_power
     for name, data in arrays.items():
         long_name, unit = DATASETS[name]
         ds = node.create_dataset(name, data=data)
@@ -118,6 +120,10 @@ def write_group(node, result: Result) -> None:
             ds = ref.create_dataset(name, data=data)
             ds.attrs["units"] = units["stress"]
             ds.attrs["long_name"] = names.get(name, name)
+    if result.stresses:
+        from .stresses.io import write_stresses
+
+        write_stresses(node, result.stresses, units)
 
 
 def _decode(value):
@@ -141,6 +147,11 @@ def read_group(node) -> Result:
         for i in range(n):
             history.append({c: _decode(v[i]) for c, v in cols.items()})
     reference = {k: v[()] for k, v in node["reference"].items()} if "reference" in node else {}
+    stresses = {}
+    if "stresses" in node:
+        from .stresses.io import read_stresses
+
+        stresses = read_stresses(node["stresses"])
     return Result(
         x=node["x"][()],
         weights=node["weights"][()],
@@ -153,6 +164,8 @@ def read_group(node) -> Result:
         history=history,
         reference=reference,
         case_toml=_decode(node.attrs.get("case", "")),
+        frictional_power=node["frictional_power"][()] if "frictional_power" in node else None,
+        stresses=stresses,
     )
 
 

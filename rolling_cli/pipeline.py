@@ -49,6 +49,7 @@ from .solver.budget import Budget
 from .solver.formulation import State
 from .solver.initial import carter_ratio_for_creep, cold_start
 from .solver.strategies import Controls, Solution, StrategyFailed, Task
+from .stresses import power
 from .system import ContactSystem, build_system
 from .validity import half_space_check
 
@@ -305,6 +306,7 @@ def presolve_case(case: Case, guess: float, zone: float) -> Case:
     elements = int(min(max(PRESOLVE_ELEMENTS, needed), 400))
     return dataclasses.replace(
         case,
+        stresses=None,
         friction=dataclasses.replace(case.friction, mu=0.0),
         tangential=type(case.tangential)(),
         solver=dataclasses.replace(case.solver, penalty="auto"),
@@ -399,7 +401,9 @@ class MeshPath:
                 elements //= 4
                 coarse_elements.append(elements)
             for elements in reversed(coarse_elements):
-                coarse = dataclasses.replace(case, discretization=dataclasses.replace(disc, contact_elements=elements))
+                coarse = dataclasses.replace(
+                    case, discretization=dataclasses.replace(disc, contact_elements=elements), stresses=None
+                )
                 yield self._announce(Level("coarse grid", coarse, plan(coarse, half_width=base.half_width)))
         yield self._announce(Level("case grid", case, base, self.given))
         while True:
@@ -538,7 +542,16 @@ def solve(
     result.attributes["time_total_solve"] = time.perf_counter() - t0
     result.attributes["start"] = "warm" if path.warm else "cold"
     result.attributes["iterations_total"] = int(sum(level.iterations for level in path.levels.values()))
-    return result
+    return _attach_stresses(final.case, final.plan, result)
+
+
+def _attach_stresses(case: Case, the_plan: Plan, result: Result) -> Result:
+    """The subsurface stresses the case asks for (nothing is imported without a [stresses] table)."""
+    if case.stresses is None:
+        return result
+    from .stresses import attach
+
+    return attach(case, the_plan, result)
 
 
 class _LevelFailed(Exception):
@@ -609,7 +622,7 @@ def _failure(level: Level, err: ConvergenceError, path: MeshPath, keep_failed: b
     level.solution = Solution(prepared, ev, problem)
     result = assemble(level, path.history, path.timings, converged=False)
     result.attributes["message"] = str(err)
-    return result
+    return _attach_stresses(level.case, level.plan, result)
 
 
 _estimates: dict[str, float] = {}
@@ -662,6 +675,8 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     w = system.weights
     p_n, p_t = state.p_n, state.p_t
     states = node_states(p_n, stick)
+    s_t = system.reported_slip(p_n, p_t, state.creep)
+    dissipation = power.density(p_t, s_t, states)
     load = float(-(w @ p_n))
     q = float(w @ p_t)
     mu = case.friction.mu
@@ -731,6 +746,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "message": "",
         "time_influence": timings["influence"],
         "time_solve": timings["solve"],
+        "frictional_power_total": power.total(w, dissipation),
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
     reference = {}
@@ -752,12 +768,13 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         p_n=p_n,
         p_t=p_t,
         delta_n=system.gap(p_n, p_t, state.overlap),
-        s_t=system.reported_slip(p_n, p_t, state.creep),
+        s_t=s_t,
         state=states,
         attributes=attrs,
         history=history,
         reference=reference,
         case_toml=case_to_toml(case),
+        frictional_power=dissipation,
     )
 
 

@@ -22,6 +22,7 @@ DATASETS = {
     "delta_n": ("normal gap after deformation", "length"),
     "s_t": ("slip velocity of A relative to B divided by |V|", "1"),
     "state": ("contact state: 0 separation, 1 adhesion, 2 slip", "1"),
+    "frictional_power": ("frictional power density per unit rolling speed, -p_t s_t (>= 0, dissipated)", "stress"),
 }
 
 
@@ -46,6 +47,8 @@ class Result:
     history: list[dict] = field(default_factory=list)
     reference: dict[str, np.ndarray] = field(default_factory=dict)
     case_toml: str = ""
+    frictional_power: np.ndarray | None = None  # [stress], rolling_cli.stresses.power
+    stresses: dict = field(default_factory=dict)  # body label -> rolling_cli.stresses.compute.BodyStresses
 
     def __getattr__(self, name: str):
         attrs = self.__dict__.get("attributes", {})

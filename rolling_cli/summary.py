@@ -6,6 +6,7 @@ import json
 import math
 
 from .result import Result
+from .stresses import power
 
 
 def _fmt(value: float, digits: int = 6) -> str:
@@ -68,9 +69,17 @@ def summary(result: Result, output: str | None = None) -> str:
             f"(of mu p0); creepage {_fmt(attrs.get('error_estimate_creep'), 3)}, load "
             f"{_fmt(attrs.get('error_estimate_load'), 3)} (relative)"
         )
+    power_line = power.summary_line(attrs, line)
+    if power_line:
+        lines.append(power_line)
+    if "stress_bodies" in attrs:
+        from .stresses.report import summary_lines
+
+        lines.extend(summary_lines(attrs, u))
     lines.append(
         f"  time           influence {attrs.get('time_influence', 0.0):.3f} s, "
         f"Newton {attrs.get('time_solve', 0.0):.3f} s"
+        + (f", stresses {attrs['time_stresses']:.3f} s" if "time_stresses" in attrs else "")
     )
     if attrs.get("message"):
         lines.append(f"  failure        {attrs['message']}")

@@ -45,6 +45,7 @@ from .io_hdf5 import atomic_h5, write_group
 from .path import CasePath
 from .references import carter
 from .result import utc_timestamp
+from .stresses.report import SWEEP_COLUMNS, sweep_columns
 
 FORMAT = "rolling_cli.sweep"
 FORMAT_VERSION = 1
@@ -430,6 +431,7 @@ class SweepWriter:
             "iterations": int(get("iterations", -1)),
             "time": float(get("time", math.nan)),
             "message": str(get("message", "")),
+            "extra": sweep_columns(attrs),  # stress maxima (when computed) and frictional power
         }
 
     def _write_summary(self, handle) -> None:
@@ -452,6 +454,9 @@ class SweepWriter:
         for column in SUMMARY_COLUMNS:
             summary.create_dataset(column, data=np.array([row[column] for row in rows], dtype=types.get(column, float)))
         summary.create_dataset("message", data=np.array([row["message"] for row in rows], dtype=h5py.string_dtype()))
+        for column in SWEEP_COLUMNS:
+            if any(column in row["extra"] for row in rows):
+                summary.create_dataset(column, data=np.array([row["extra"].get(column, np.nan) for row in rows]))
 
 
 #: Seconds between two writes of the sweep file (a forced write ends every sweep).

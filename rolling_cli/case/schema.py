@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from ..errors import CaseError
 from ..influence.choice import MODELS
 
 #: Magnitudes allowed for dimensional inputs (lengths, moduli, loads, penalties)
@@ -30,6 +31,7 @@ LARGEST = 1e30
 #: tolerance). No real pair has mu > 100 (that is full adhesion already).
 MU_SMALLEST = 1e-6
 MU_LARGEST = 100.0
+
 
 
 def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any) -> Any:
@@ -174,6 +176,47 @@ class Effects:
     coupling: str = spec("auto", doc="normal-tangential coupling", kind="str", choices=("auto", "on", "off"))
 
 
+def _grid_points(value: Any, key: str, file: str | None) -> tuple[int, int]:
+    """[stresses] points: two integers, nx in 3..4001 and nz in 2..4001, at most 4e6 points in all."""
+    allowed = "[nx, nz], integers 3 <= nx <= 4001 and 2 <= nz <= 4001, nx nz <= 4000000"
+    ok = isinstance(value, (list, tuple)) and len(value) == 2 and all(type(v) is int for v in value)
+    if not ok or not (3 <= value[0] <= 4001 and 2 <= value[1] <= 4001 and value[0] * value[1] <= 4_000_000):
+        raise CaseError(f"{key} = {value!r}: not a valid field grid; allowed: {allowed}", file=file, key=key)
+    return (value[0], value[1])
+
+
+def _body_labels(value: Any, key: str, file: str | None) -> tuple[str, ...]:
+    """[stresses] bodies: a non-empty list of distinct "A" and "B"."""
+    ok = isinstance(value, (list, tuple)) and value and all(v in ("A", "B") for v in value)
+    ok = ok and len(set(value)) == len(value)
+    if not ok:
+        raise CaseError(
+            f'{key} = {value!r}: not a list of bodies; allowed: ["A"], ["B"] or ["A", "B"]', file=file, key=key
+        )
+    return tuple(value)
+
+
+@dataclass(frozen=True)
+class Stresses:
+    """Subsurface stress fields; computed only when the case has a [stresses] table.
+
+    Two more field rules serve it (:mod:`~rolling_cli.case.validate`): ``convert``, a function
+    (value, dotted key, file) -> value for the lists, and ``optional`` on the Case field: None when absent.
+    """
+
+    depth: float = spec(
+        3.0,
+        doc="field depth below each surface / a (a layer: down to its bond line at most)",
+        kind="float",
+        gt=0.0,
+        le=100.0,
+    )
+    points: tuple = spec((201, 101), doc="field grid points [nx, nz]", convert=_grid_points)
+    bodies: tuple = spec(
+        ("A", "B"), doc='bodies whose fields are computed ("A", "B"; rigid ones are skipped)', convert=_body_labels
+    )
+
+
 @dataclass(frozen=True)
 class Units:
     length: str = spec("mm", doc="length unit name (labels only)", kind="str", max_length=40)
@@ -207,5 +250,6 @@ class Case:
     effects: Effects = spec(None, doc="effect selection", kind="table")
     units: Units = spec(None, doc="unit names", kind="table")
     output: Output = spec(None, doc="output", kind="table")
+    stresses: Stresses | None = spec(None, doc="subsurface stresses (only when given)", kind="table", optional=True)
     title: str | None = spec(None, doc="case title", kind="str", max_length=1000)
     source: str | None = field(default=None, metadata={"internal": True})

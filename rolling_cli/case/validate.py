@@ -74,6 +74,8 @@ def _check_bounds(value: float, meta: dict) -> bool:
 
 def convert_scalar(value: Any, meta: dict, key: str, file: str | None) -> Any:
     """Check one scalar against its field rules and return the converted value."""
+    if "convert" in meta:
+        return meta["convert"](value, key, file)
     kind = meta.get("kind")
     allowed = _allowed(meta)
     if kind == "float_or_auto" and value == "auto":
@@ -148,6 +150,8 @@ def build(cls: type, data: Any, prefix: str, file: str | None) -> Any:
                 kwargs[name] = build(_table_type(cls, name), data[name], dotted, file)
             elif meta.get("required"):
                 raise CaseError(f"{dotted}: missing table; allowed: a [{dotted}] table", file=file, key=dotted)
+            elif meta.get("optional"):
+                kwargs[name] = None
             else:
                 kwargs[name] = _table_type(cls, name)()
             continue

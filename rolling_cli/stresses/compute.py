@@ -1,0 +1,201 @@
+"""The stress fields of the requested bodies of a solved case: :func:`compute_stresses`.
+
+Each body is reported in its own frame: x the global rolling coordinate, z >= 0
+the depth into that body (its mirror frame, as the influence models describe
+it). tau_xz is the shear stress in that frame, so on the surface
+tau_xz(x, 0) = -(tangential traction on the body along +x):
+-p_t for body A and +p_t for body B (p_t the traction on A, B carries -p_t);
+in global axes (y up) that is sigma_xy for A and -sigma_xy for B. Below the
+surface, the integral of tau_xz along x over a whole line z = const equals its
+surface integral, -Q for A and +Q for B (Q the tangential force on A).
+Compression is negative.
+
+Models: the closed-form half-plane (:mod:`.halfplane`) for ``influence =
+"half-plane"``, the BEM body's Somigliana identity (:mod:`.bem`) on its full
+boundary solution (:mod:`.boundary`) for ``influence = "bem"``; rigid bodies
+have no field. The grid: nx points over the potential contact zone plus a
+margin of :data:`MARGIN` of its half-width on each side (inside a layer's top
+face), nz depths from the surface to ``depth`` a (a layer: to its bond line at
+most, which is then the last row).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import materials
+from ..influence.bem.elements import lagrange_coefficients
+from . import bem, boundary, halfplane, invariants
+
+#: Field margin beyond the potential contact zone, as a fraction of its half-width.
+MARGIN = 0.25
+#: A layer's field stays inside this fraction of its free length beyond the zone.
+LAYER_MARGIN = 0.5
+#: A block's field stays above this fraction of its depth.
+BLOCK_DEPTH = 0.5
+
+
+@dataclass
+class BodyStresses:
+    """One body's stresses: ``arrays`` by dataset name [length] or [stress], ``attributes`` scalars.
+
+    Arrays: ``x`` (nx,), ``z`` (nz,); (nz, nx) fields ``sigma_xx``, ``sigma_zz``,
+    ``tau_xz``, ``sigma_yy``, ``von_mises``, ``tresca``, ``sigma_1``,
+    ``sigma_2``, ``sigma_3``; ``tau_xz_range`` (nz,); ``surface_x``,
+    ``surface_sigma_xx`` on the contact nodes; for a layer ``bond_x``,
+    ``bond_sigma_zz``, ``bond_tau_xz`` on the bond-line nodes.
+    """
+
+    label: str
+    arrays: dict[str, np.ndarray] = field(default_factory=dict)
+    attributes: dict = field(default_factory=dict)
+
+
+def model_name(case, label: str) -> str:
+    """The stress model of body ``label``: "half-plane", "BEM block", "BEM layer" or "rigid"."""
+    body = getattr(case.bodies, label)
+    if body.rigid:
+        return "rigid"
+    if case.discretization.influence == "half-plane":
+        return "half-plane"
+    return "BEM layer" if body.kind == "layered" else "BEM block"
+
+
+def field_grid(case, the_plan, label: str) -> tuple[np.ndarray, np.ndarray]:
+    """The field's x (nx,) and z (nz,) [length] for body ``label`` (module docstring)."""
+    request = case.stresses
+    nx, nz = request.points
+    grid = the_plan.grid
+    body = getattr(case.bodies, label)
+    reach = (1.0 + MARGIN) * grid.half_width
+    depth = request.depth * the_plan.half_width
+    if body.kind == "layered":
+        thickness = float(body.layer_thickness)
+        reach = min(reach, grid.half_width + LAYER_MARGIN * case.discretization.layer_length * thickness)
+        depth = min(depth, thickness)
+    elif case.discretization.influence == "bem":
+        depth = min(depth, BLOCK_DEPTH * case.discretization.block_depth * the_plan.half_width)
+    return grid.centre + np.linspace(-reach, reach, nx), np.linspace(0.0, depth, nz)
+
+
+def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray) -> dict[str, BodyStresses]:
+    """Fields of the bodies in ``case.stresses.bodies`` (rigid ones skipped) from the nodal tractions.
+
+    ``p_n`` (<= 0 in compression) and ``p_t`` (on body A along +x) [stress] on
+    the plan's contact grid. Half-plane bodies share one evaluation of the
+    integrals (they carry p_n and +-p_t); BEM bodies with the same mesh and
+    material share one boundary solve.
+    """
+    labels = [label for label in case.stresses.bodies if model_name(case, label) != "rigid"]
+    if not labels:
+        return {}
+    if case.discretization.influence == "half-plane":
+        components = _halfplane(case, the_plan, p_n, p_t, labels)
+    else:
+        components = _bem(case, the_plan, p_n, p_t, labels)
+    out = {}
+    for label in labels:
+        body = getattr(case.bodies, label)
+        arrays, (sxx, szz, txz) = components[label]
+        arrays.update(derived(sxx, szz, txz, float(body.poisson)))
+        attributes = {"body": label, "model": model_name(case, label), "poisson": float(body.poisson)}
+        if body.kind == "layered":
+            attributes["bond_depth"] = float(body.layer_thickness)
+        out[label] = BodyStresses(label, arrays, attributes)
+    return out
+
+
+def _halfplane(case, the_plan, p_n, p_t, labels) -> dict:
+    grid = the_plan.grid
+    signs = [1.0 if label == "A" else -1.0 for label in labels]  # B carries -p_t
+    x, z = field_grid(case, the_plan, labels[0])  # the same grid for every half-plane body
+    fields = halfplane.both_signs(grid, p_n, p_t, x[None, :], z[:, None], signs)
+    surfaces = halfplane.both_signs(grid, p_n, p_t, grid.x, 0.0, signs)
+    return {
+        label: ({"x": x, "z": z, "surface_x": grid.x, "surface_sigma_xx": surface[0]}, field)
+        for label, field, surface in zip(labels, fields, surfaces, strict=True)
+    }
+
+
+def _bem(case, the_plan, p_n, p_t, labels) -> dict:
+    grid = the_plan.grid
+    out = {}
+    solutions = _boundary_solutions(case, the_plan, p_n, p_t, labels)
+    for label in labels:
+        body = getattr(case.bodies, label)
+        mesh, u, t = solutions[label]
+        shear, nu = materials.shear_modulus(float(body.young), float(body.poisson)), float(body.poisson)
+        x, z = field_grid(case, the_plan, label)
+        X, Z = np.meshgrid(x, z)
+        points = np.concatenate([np.stack([X.ravel(), -Z.ravel()], axis=1), np.stack([grid.x, 0.0 * grid.x], axis=1)])
+        s = bem.stresses(mesh, u, t, shear, nu, points)  # the field, then the surface at the contact nodes
+        field, surface = s[:, : X.size], s[:, X.size :]
+        arrays = {"x": x, "z": z, "surface_x": grid.x, "surface_sigma_xx": surface[0]}
+        if body.kind == "layered":
+            arrays.update(bond_line(mesh, t))
+        sxx, syy, sxy = (component.reshape(X.shape) for component in field)
+        out[label] = (arrays, (sxx, syy, -sxy))  # the mesh frame has y = -z
+    return out
+
+
+def derived(sigma_xx, sigma_zz, tau_xz, poisson: float) -> dict[str, np.ndarray]:
+    """The components with sigma_yy, the principal stresses, von Mises, Tresca and the tau_xz range."""
+    principal = invariants.principal(sigma_xx, sigma_zz, tau_xz, poisson)
+    return {
+        "sigma_xx": sigma_xx,
+        "sigma_zz": sigma_zz,
+        "tau_xz": tau_xz,
+        "sigma_yy": invariants.out_of_plane(sigma_xx, sigma_zz, poisson),
+        "von_mises": invariants.von_mises(sigma_xx, sigma_zz, tau_xz, poisson),
+        "tresca": invariants.tresca(principal),
+        "sigma_1": principal[0],
+        "sigma_2": principal[1],
+        "sigma_3": principal[2],
+        "tau_xz_range": invariants.orthogonal_shear_range(tau_xz),
+    }
+
+
+def bond_line(mesh, t: np.ndarray) -> dict[str, np.ndarray]:
+    """Normal and shear stress along a layer's bonded bottom (its fixed nodes), with integration weights.
+
+    The layer's outward normal there is +z, so sigma_zz = -t_y and
+    tau_xz = t_x of the BEM traction (mesh frame, y up). Returns the nodes'
+    ``bond_x`` [length], ``bond_sigma_zz``, ``bond_tau_xz`` [stress] in
+    increasing x and ``bond_weights`` [length] (integrals of the nodal shape
+    functions along the bond, so sum(w sigma) is the force per unit length).
+    """
+    nodes = np.flatnonzero(mesh.fixed)
+    order = np.argsort(mesh.nodes[nodes, 0])
+    nodes = nodes[order]
+    weights = np.zeros(mesh.size)
+    on_bond = mesh.fixed[mesh.connectivity].all(axis=1)
+    coeff = lagrange_coefficients(mesh.local[on_bond])  # (e, k, m)
+    moments = np.array([2.0, 0.0, 2.0 / 3.0])
+    per_node = 0.5 * mesh.lengths[on_bond, None] * (coeff @ moments)
+    np.add.at(weights, mesh.connectivity[on_bond], per_node)
+    return {
+        "bond_x": mesh.nodes[nodes, 0],
+        "bond_sigma_zz": -t[nodes, 1],
+        "bond_tau_xz": t[nodes, 0],
+        "bond_weights": weights[nodes],
+    }
+
+
+def _boundary_solutions(case, the_plan, p_n, p_t, labels) -> dict[str, tuple]:
+    """(mesh, u, t) of the BEM bodies ``labels``; identical bodies share one mesh and one LU."""
+    groups: dict[tuple, list[str]] = {}
+    for label in labels:
+        body = getattr(case.bodies, label)
+        key = (body.kind, body.young, body.poisson, body.layer_thickness)
+        groups.setdefault(key, []).append(label)
+    out = {}
+    for members in groups.values():
+        body = getattr(case.bodies, members[0])
+        mesh = boundary.body_mesh(case, the_plan, body)
+        loads = np.stack([np.stack([p_t if lb == "A" else -p_t, p_n], axis=1) for lb in members])
+        u, t = boundary.solve(mesh, float(body.young), float(body.poisson), loads)
+        for k, label in enumerate(members):
+            out[label] = (mesh, u[k], t[k])
+    return out

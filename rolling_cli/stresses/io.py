@@ -1,0 +1,87 @@
+"""The ``stresses`` group of a result file: one subgroup per body, ``stresses/A`` and ``stresses/B``.
+
+Each subgroup holds the coordinates ``x`` and ``z`` (depth below that body's
+surface, z >= 0, the case's length unit) and the (z, x) fields ``sigma_xx``,
+``sigma_zz``, ``tau_xz``, ``sigma_yy``, ``von_mises``, ``tresca``,
+``sigma_1``, ``sigma_2``, ``sigma_3``; ``tau_xz_range`` (z); the surface
+stress ``surface_sigma_xx`` at ``surface_x`` (the contact nodes); for a layer
+the bond line ``bond_sigma_zz``, ``bond_tau_xz`` and ``bond_weights`` at
+``bond_x``. Every dataset has ``units`` and ``long_name``; coordinates are
+HDF5 dimension scales attached to the fields (netCDF-4 readable). The body's
+scalars (model, Poisson's ratio, scales, indicator maxima) are attributes.
+"""
+
+from __future__ import annotations
+
+import h5py
+import numpy as np
+
+from .compute import BodyStresses
+
+TAU_SIGN = (
+    "tau_xz is the shear stress in this body's frame (x, z into the body): "
+    "tau_xz(x, 0) = -p_t on body A, +p_t on body B"
+)
+
+#: dataset -> (long name, unit key, dimensions).
+DATASETS = {
+    "x": ("position along the rolling direction (global x)", "length", ("x",)),
+    "z": ("depth below this body's surface (z >= 0, into the body)", "length", ("z",)),
+    "sigma_xx": ("normal stress along x (compression negative)", "stress", ("z", "x")),
+    "sigma_zz": ("normal stress along the depth z (compression negative)", "stress", ("z", "x")),
+    "tau_xz": (
+        "shear stress in this body's (x, z) frame; tau_xz(x, 0) = -p_t on body A, +p_t on body B",
+        "stress",
+        ("z", "x"),
+    ),
+    "sigma_yy": ("out-of-plane normal stress of plane strain, nu (sigma_xx + sigma_zz)", "stress", ("z", "x")),
+    "von_mises": ("von Mises equivalent stress", "stress", ("z", "x")),
+    "tresca": ("Tresca stress sigma_1 - sigma_3 (twice the maximum shear stress)", "stress", ("z", "x")),
+    "sigma_1": ("largest principal stress", "stress", ("z", "x")),
+    "sigma_2": ("middle principal stress", "stress", ("z", "x")),
+    "sigma_3": ("smallest principal stress", "stress", ("z", "x")),
+    "tau_xz_range": ("range of tau_xz over a rolling pass at each depth (max - min along x)", "stress", ("z",)),
+    "surface_x": ("contact node positions on the surface z = 0", "length", ("surface_x",)),
+    "surface_sigma_xx": ("sigma_xx on the surface z = 0 at the contact nodes (tension > 0)", "stress", ("surface_x",)),
+    "bond_x": ("bond-line node positions (the layer's bonded bottom)", "length", ("bond_x",)),
+    "bond_sigma_zz": ("normal stress sigma_zz on the bond line (tension > 0)", "stress", ("bond_x",)),
+    "bond_tau_xz": ("shear stress tau_xz on the bond line (this body's frame)", "stress", ("bond_x",)),
+    "bond_weights": ("integration weight of each bond-line node (force = sum w sigma)", "length", ("bond_x",)),
+}
+COORDINATES = ("x", "z", "surface_x", "bond_x")
+
+
+def write_stresses(node, bodies: dict[str, BodyStresses], units: dict[str, str]) -> None:
+    """Write ``bodies`` as the group ``stresses`` of the open HDF5 group ``node``."""
+    group = node.create_group("stresses")
+    group.attrs["long_name"] = "subsurface stresses of each requested body"
+    group.attrs["convention"] = TAU_SIGN + "; compression negative"
+    for label, stresses in bodies.items():
+        sub = group.create_group(label)
+        for key, value in stresses.attributes.items():
+            sub.attrs[key] = value
+        for name in (*COORDINATES, *(n for n in DATASETS if n not in COORDINATES)):
+            if name not in stresses.arrays:
+                continue
+            long_name, unit, dims = DATASETS[name]
+            ds = sub.create_dataset(name, data=np.asarray(stresses.arrays[name]))
+            ds.attrs["units"] = units[unit]
+            ds.attrs["long_name"] = long_name
+            if name in COORDINATES:
+                ds.make_scale(name)
+            else:
+                for axis, dim in enumerate(dims):
+                    ds.dims[axis].attach_scale(sub[dim])
+
+
+def read_stresses(group) -> dict[str, BodyStresses]:
+    """The bodies of a ``stresses`` group written by :func:`write_stresses`."""
+    out = {}
+    for label, sub in group.items():
+        arrays = {name: ds[()] for name, ds in sub.items() if isinstance(ds, h5py.Dataset)}
+        attributes = {
+            k: (v.decode() if isinstance(v, bytes) else v.item() if isinstance(v, np.generic) else v)
+            for k, v in sub.attrs.items()
+        }
+        out[label] = BodyStresses(label, arrays, attributes)
+    return out
