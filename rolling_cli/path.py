@@ -82,33 +82,35 @@ class CasePath:
             return
         self.points = [*self.points[-1:], _Point(values, result)]
 
-    def _segment(self, values: dict) -> tuple[np.ndarray | None, np.ndarray | None]:
-        """(direction from the last point to ``values``, and the previous step when collinear)."""
+    def _segment(self, values: dict) -> tuple[np.ndarray | None, list[float]]:
+        """The step from the last point to ``values``, and the path parameters of the earlier points that
+        lie on the same line (the last point at 0, the target at 1)."""
         here = _numeric(values)
         last = _numeric(self.points[-1].values)
         if here is None or last is None or here.shape != last.shape:
-            return None, None
+            return None, []
         step = here - last
-        if len(self.points) < 2:
-            return step, None
-        before = _numeric(self.points[-2].values)
-        if before is None or before.shape != last.shape:
-            return step, None
-        previous = last - before
-        norm = np.linalg.norm(step) * np.linalg.norm(previous)
-        if norm == 0.0 or float(step @ previous) < (1.0 - 1e-9) * norm:
-            return step, None
-        return step, previous
+        length = float(np.linalg.norm(step))
+        earlier: list[float] = []
+        for point in reversed(self.points[:-1]):
+            before = _numeric(point.values)
+            if before is None or before.shape != last.shape or length == 0.0:
+                break
+            offset = before - last
+            distance = float(np.linalg.norm(offset))
+            if distance == 0.0 or float(offset @ step) > -(1.0 - 1e-9) * distance * length:
+                break  # not on the line behind the last point
+            earlier.insert(0, -distance / length)
+        return step, earlier
 
     def _follow(self, case: Case, values: dict) -> Result:
-        step, previous = self._segment(values)
+        step, earlier = self._segment(values)
         last = self.points[-1]
         mu = case.friction.mu
         x = self.system.x
         # parameter s along the segment: the last point at 0, the target at 1
-        points: list[tuple[float, Result]] = []
-        if previous is not None:
-            points.append((-float(np.linalg.norm(previous) / np.linalg.norm(step)), self.points[-2].result))
+        behind = self.points[len(self.points) - 1 - len(earlier) : -1]
+        points: list[tuple[float, Result]] = [(s, p.result) for s, p in zip(earlier, behind, strict=True)]
         points.append((0.0, last.result))
         keys = list(values)
 
@@ -119,13 +121,7 @@ class CasePath:
             return with_overrides(case, dict(zip(keys, (base + s * step).tolist(), strict=True)))
 
         def predict(done, s):
-            (s1, r1) = done[-1]
-            if len(done) < 2:
-                return result_state(r1)
-            (s0, r0) = done[-2]
-            return predictor.secant(
-                x, s0, result_state(r0), result_zones(r0), s1, result_state(r1), result_zones(r1), s, mu
-            )
+            return predictor.secant(x, [(sk, result_state(r), result_zones(r)) for sk, r in done[-2:]], s, mu)
 
         def solve_at(s, start):
             try:

@@ -299,7 +299,7 @@ def test_secant_moves_a_square_root_kink_to_its_extrapolated_place():
 
     for b in (0.2, 0.3):  # the square-root fit places the boundary to round-off (the margin is exact)
         assert zones(b).boundaries[0] == pytest.approx(b, abs=1e-9)
-    predicted = predictor.secant(x, 0.0, state(0.2), zones(0.2), 1.0, state(0.3), zones(0.3), 2.0, mu=1.0)
+    predicted = predictor.secant(x, [(0.0, state(0.2), zones(0.2)), (1.0, state(0.3), zones(0.3))], 2.0, mu=1.0)
     exact = state(0.4)
     assert np.max(np.abs(predicted.p_t - exact.p_t)) < 0.2 * np.max(np.abs(state(0.3).p_t - exact.p_t))
     assert predicted.creep == pytest.approx(-0.4)

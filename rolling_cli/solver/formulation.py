@@ -36,6 +36,7 @@ mu is).
 from __future__ import annotations
 
 import dataclasses
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -209,20 +210,42 @@ def roundoff_floor(problem: Problem, scales: Scales) -> float:
     system = problem.system
     eps = np.finfo(float).eps
     s_n, s_t = scales.normal, scales.tangential
+    nn, nt, tt, tn, gap0 = _row_sums(system)
+    floor = 0.0
+    if problem.normal:
+        floor = eps * system.reference_penalty_n * (nn * s_n + nt * s_t + gap0) / s_n
+    if problem.tangential:
+        floor = max(floor, eps * system.reference_penalty_t * (tt * s_t + tn * s_n) / s_t)
+    return floor
+
+
+_ROW_SUMS: dict[int, tuple] = {}
+
+
+def _row_sums(system: ContactSystem) -> tuple[float, float, float, float, float]:
+    """max_i sum_j |M_ij| of S_nn, S_nt and of B_tt, B_tn over the slip rows, and max |gap0|; cached per
+    system (a property of its matrices: sweeps and strategies solve many problems on one system)."""
+    key = id(system)
+    cached = _ROW_SUMS.get(key)
+    if cached is not None and cached[0]() is system:
+        return cached[1]
 
     def row_sum(matrix):
         return float(np.abs(matrix).sum(axis=1).max()) if matrix is not None else 0.0
 
-    floor = 0.0
-    if problem.normal:
-        size = row_sum(system.S_nn) * s_n + row_sum(system.S_nt) * s_t + float(np.abs(system.gap0).max())
-        floor = eps * system.reference_penalty_n * size / s_n
-    if problem.tangential:
-        rows = np.ones(system.size, dtype=bool)
-        rows[system.gauge] = False
-        size = row_sum(system.B_tt[rows]) * s_t + row_sum(None if system.B_tn is None else system.B_tn[rows]) * s_n
-        floor = max(floor, eps * system.reference_penalty_t * size / s_t)
-    return floor
+    rows = np.ones(system.size, dtype=bool)
+    rows[system.gauge] = False
+    values = (
+        row_sum(system.S_nn),
+        row_sum(system.S_nt),
+        row_sum(system.B_tt[rows]),
+        row_sum(None if system.B_tn is None else system.B_tn[rows]),
+        float(np.abs(system.gap0).max()),
+    )
+    if len(_ROW_SUMS) > 32:
+        _ROW_SUMS.clear()
+    _ROW_SUMS[key] = (weakref.ref(system), values)
+    return values
 
 
 # --- node-state rules -------------------------------------------------------------------------------

@@ -5,10 +5,10 @@
   contact edges and the stick/slip boundaries, where the traction has a
   square-root kink) at their old places, so Newton then moves each boundary a
   node or two per iteration. Here the zone boundaries themselves are
-  extrapolated (located to a fraction of a node where the projection argument
-  changes sign), both profiles are mapped piecewise-linearly onto the predicted
-  boundaries, and the secant is taken of the mapped profiles. The overlap and
-  the creepage are extrapolated linearly.
+  extrapolated (located to a small fraction of a node by :func:`zones`), both
+  profiles are mapped piecewise-linearly onto the predicted boundaries, and the
+  secant is taken of the mapped profiles. The overlap and the creepage are
+  extrapolated linearly.
 * :func:`transfer`: a state moved onto another grid (a larger zone, a finer
   mesh): tractions interpolated, zero outside the old zone.
 
@@ -98,20 +98,25 @@ def _warp(x: np.ndarray, values: np.ndarray, source: np.ndarray, target: np.ndar
     return np.interp(np.interp(x, knots_to, knots_from), x, values)
 
 
-def secant(
-    x: np.ndarray, s0: float, state0: State, zones0: Zones, s1: float, state1: State, zones1: Zones, s: float, mu: float
-) -> State:
-    """Predicted state at path parameter ``s`` from the solutions at s0 and s1 (on the grid x).
+def secant(x: np.ndarray, points: list[tuple[float, State, Zones]], s: float, mu: float) -> State:
+    """Predicted state at path parameter ``s`` from the last converged points [(s_k, state_k, zones_k)].
 
-    The boundaries are extrapolated when both solutions have the same zone
-    pattern and the prediction keeps them ordered inside the zone; otherwise
-    they stay where the solution at s1 has them (a plain secant). The result is
-    projected onto p_n <= 0 and |p_t| <= mu |p_n|.
+    The zone boundaries are extrapolated linearly when the last two points share
+    a zone pattern and the prediction keeps them ordered inside the zone;
+    otherwise they stay where the last solution has them. (A quadratic through
+    three points was measured worse: it amplifies the error of the located
+    boundaries about 4.4 times, a line 2.2 times, and mid-curve that error
+    outweighs the curvature of the boundary's path.) The last two profiles are mapped onto the predicted
+    boundaries and extrapolated linearly, as are the overlap and the creepage.
+    The result is projected onto p_n <= 0 and |p_t| <= mu |p_n|. With one
+    point the prediction is a copy.
     """
+    if len(points) == 1:
+        return points[0][1].copy()
+    (s0, state0, zones0), (s1, state1, zones1) = points[-2], points[-1]
     t = (s - s1) / (s1 - s0)
     b1 = zones1.boundaries
-    target = b1
-    b0 = None
+    target, b0 = b1, None
     if zones0.pattern == zones1.pattern:
         predicted = b1 + t * (b1 - zones0.boundaries)
         inside = predicted.size == 0 or (predicted[0] > x[0] and predicted[-1] < x[-1])

@@ -300,10 +300,7 @@ def _predict(x: np.ndarray, mu: float):
     """The boundary-secant predictor over points [(s, Solution)] (a copy from one point)."""
 
     def predict(points, s):
-        if len(points) < 2:
-            return points[-1][1].state.copy()
-        (s0, sol0), (s1, sol1) = points[-2], points[-1]
-        return predictor.secant(x, s0, sol0.state, sol0.zones(), s1, sol1.state, sol1.zones(), s, mu)
+        return predictor.secant(x, [(sk, sol.state, sol.zones()) for sk, sol in points[-2:]], s, mu)
 
     return predict
 
