@@ -174,8 +174,8 @@ def measure_half_width(case: Case, e_star: float, r_star: float, use_cache: bool
         if contact[0] or contact[-1] or not contact.any():
             zone *= 2.0
             continue
-        half = 0.5 * system.spacing
-        measured = 0.5 * (system.x[contact].max() - system.x[contact].min()) + half
+        lo, hi = system.extent(contact)
+        measured = 0.5 * (hi - lo)
         if abs(measured - guess) <= 2.0 * system.spacing:
             return float(measured)
         guess, zone = float(measured), 1.6
@@ -251,7 +251,7 @@ def build_contact_system_with_origin(
         compliance,
         the_plan.radius,
         case.rolling.direction,
-        the_plan.grid.spacing,
+        the_plan.grid,
         disc.slip_derivative,
         penalty,
     )
@@ -510,9 +510,8 @@ def _assemble(case, the_plan, system, state, stick, history, iterations, residua
     q = float(w @ p_t)
     mu = case.friction.mu
     contact = p_n < 0.0
-    half = 0.5 * system.spacing
     if contact.any():
-        lo, hi = system.x[contact].min() - half, system.x[contact].max() + half
+        lo, hi = system.extent(contact)
         centre, half_width = 0.5 * (lo + hi), 0.5 * (hi - lo)
     else:
         centre = half_width = math.nan
