@@ -1,0 +1,36 @@
+"""Solve a case on an explicit contact grid (graded or uniform) through :func:`rolling_cli.solve`.
+
+The case fixes everything but the mesh: its plan (Hertz scale, zone, effects)
+is kept and only the contact grid is replaced, so the influence is built on
+the given element edges and the solver sees a prebuilt contact system. A
+warm start (tractions on the new grid's nodes, overlap, creepage) can be
+passed, for example the transfer of a coarser solution
+(:func:`rolling_cli.adapt.transfer.transfer_state`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ..case import Case
+from ..grid import ContactGrid
+from ..pipeline import build_contact_system, plan, solve
+from ..result import Result
+from ..solver.newton import State
+from ..system import ContactSystem
+
+
+def system_on_grid(case: Case, grid: ContactGrid, use_cache: bool = True) -> ContactSystem:
+    """The case's contact system with its contact grid replaced by ``grid`` (same zone)."""
+    the_plan = dataclasses.replace(plan(case, use_cache=use_cache, check=False), grid=grid)
+    return build_contact_system(case, the_plan, use_cache)
+
+
+def solve_on_grid(case: Case, grid: ContactGrid, start: State | None = None, use_cache: bool = True) -> Result:
+    """:func:`rolling_cli.solve` of ``case`` on ``grid``; ``start`` a warm start on its nodes.
+
+    The result's ``contact_elements`` attribute is the grid's element count.
+    """
+    result = solve(case, start=start, system=system_on_grid(case, grid, use_cache), use_cache=use_cache)
+    result.attributes["contact_elements"] = grid.elements
+    return result
