@@ -115,7 +115,7 @@ def test_graded_dissimilar_solve_keeps_contact_laws_and_forces():
     case = rolling_cli.load_case(dissimilar(**{"discretization.contact_elements": 20, "tangential.q_over_mu_p": 0.04}))
     coarse = rolling_cli.solve(case)
     a = coarse.mesh_half_width
-    grid = graded_grid(ContactGrid(1.5 * a, 20, 2), [-0.998 * a, -0.965 * a, 0.875 * a, 0.997 * a], 1e-3 * a, 0.1 * a)
+    grid = graded_grid(ContactGrid(1.5 * a, 20, 2), [-0.998 * a, -0.965 * a, 0.875 * a, 0.997 * a], 3e-3 * a, 0.15 * a)
     r = solve_on_grid(case, grid)
     assert_contact_laws(r)
     assert_force_balance(r, load=1000.0, q=0.04 * 0.1 * 1000.0)
@@ -123,9 +123,12 @@ def test_graded_dissimilar_solve_keeps_contact_laws_and_forces():
 
 
 def test_explicit_grid_keeps_the_case_reference():
-    """solve_on_grid changes nothing but the mesh: the loads and the Hertz scale are the case's."""
+    """solve_on_grid changes nothing but the mesh: the loads and the Hertz scale are the case's.
+    A graded grid with the BEM is refused (its influence cache is keyed on uniform grids)."""
     case = rolling_cli.load_case(CARTER)
     grid = graded_grid(ContactGrid(1.5, 10, 2), [-1.0, 1.0], 0.01, 0.1)
     r = solve_on_grid(case, grid)
     assert r.normal_load == pytest.approx(1812.5, rel=1e-10)
     assert r.x.size == grid.size and np.array_equal(r.weights, grid.weights)
+    with pytest.raises(ValueError, match="half-plane"):
+        solve_on_grid(rolling_cli.load_case(case_dict(**{"discretization.influence": "bem"})), grid)

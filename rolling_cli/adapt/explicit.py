@@ -21,7 +21,14 @@ from ..system import ContactSystem
 
 
 def system_on_grid(case: Case, grid: ContactGrid, use_cache: bool = True) -> ContactSystem:
-    """The case's contact system with its contact grid replaced by ``grid`` (same zone)."""
+    """The case's contact system with its contact grid replaced by ``grid`` (same zone).
+
+    Graded grids need the half-plane model: the BEM influence is memoised and
+    cached on the zone's width and element count, not on its edges, so a graded
+    grid would silently get a uniform grid's influence.
+    """
+    if not grid.uniform and case.discretization.influence != "half-plane":
+        raise ValueError("graded contact grids need discretization.influence = 'half-plane' (the BEM takes none yet)")
     the_plan = dataclasses.replace(plan(case, use_cache=use_cache, check=False), grid=grid)
     return build_contact_system(case, the_plan, use_cache)
 
