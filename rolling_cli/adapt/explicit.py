@@ -5,7 +5,7 @@ is kept and only the contact grid is replaced, so the influence is built on
 the given element edges and the solver sees a prebuilt contact system. A
 warm start (tractions on the new grid's nodes, overlap, creepage) can be
 passed, for example the transfer of a coarser solution
-(:func:`rolling_cli.adapt.transfer.transfer_state`).
+(:func:`rolling_cli.adapt.transfer.transfer_tractions`).
 """
 
 from __future__ import annotations
@@ -14,10 +14,11 @@ import dataclasses
 
 from ..case import Case
 from ..grid import ContactGrid
+from ..influence import halfplane
 from ..pipeline import build_contact_system, plan, solve
 from ..result import Result
 from ..solver.newton import State
-from ..system import ContactSystem
+from ..system import ContactSystem, build_system
 
 
 def system_on_grid(case: Case, grid: ContactGrid, use_cache: bool = True) -> ContactSystem:
@@ -25,12 +26,20 @@ def system_on_grid(case: Case, grid: ContactGrid, use_cache: bool = True) -> Con
 
     Graded grids need the half-plane model: the BEM influence is memoised and
     cached on the zone's width and element count, not on its edges, so a graded
-    grid would silently get a uniform grid's influence.
+    grid would silently get a uniform grid's influence. A graded grid's
+    half-plane influence is built outside the in-process memo, which would
+    otherwise keep the dense matrices of every level of an adaptive run.
     """
     if not grid.uniform and case.discretization.influence != "half-plane":
         raise ValueError("graded contact grids need discretization.influence = 'half-plane' (the BEM takes none yet)")
     the_plan = dataclasses.replace(plan(case, use_cache=use_cache, check=False), grid=grid)
-    return build_contact_system(case, the_plan, use_cache)
+    if grid.uniform:
+        return build_contact_system(case, the_plan, use_cache)
+    a, b = case.bodies.A, case.bodies.B
+    compliance = halfplane.pair_compliance(grid, a.modulus, a.ratio, b.modulus, b.ratio, the_plan.effects.coupling)
+    penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
+    scheme = case.discretization.slip_derivative
+    return build_system(compliance, the_plan.radius, case.rolling.direction, grid, scheme, penalty)
 
 
 def solve_on_grid(case: Case, grid: ContactGrid, start: State | None = None, use_cache: bool = True) -> Result:
