@@ -18,12 +18,13 @@ Pure functions on plain arrays and immutable grids, one job per module:
 
 The adaptive loop is then a thin layer (prototype: ``benchmarks/adaptive.py``)::
 
-    result = solve(case)                              # the case's uniform mesh
+    result = solve(case)                                   # the case's uniform mesh
     while True:
-        kinks, _ = kinks.locate_kinks(result)
         eta = indicator.element_indicator(grid, result.p_n, result.p_t, mu, p0)
-        if eta.max() <= tolerance: break              # (and a cap on refinements)
-        new = remesh.next_grid(grid, eta, kinks, tolerance)
-        result = explicit.solve_on_grid(case, new)    # or from transfer.transfer_tractions
+        if eta.max() <= tolerance: break                   # (and a cap on refinements)
+        positions, kinds = kinks.locate_kinks(result, grid)
+        new = remesh.next_grid(grid, eta, positions, kinds, tolerance)
+        start = transfer.transfer_tractions(grid, result.p_n, result.p_t, mu, new, edges)  # optional
+        result = explicit.solve_on_grid(case, new, start)
         grid = new
 """
