@@ -212,7 +212,7 @@ def build_contact_system_with_origin(
         compliance,
         the_plan.radius,
         case.rolling.direction,
-        the_plan.grid.spacing,
+        the_plan.grid,
         disc.slip_derivative,
         penalty,
     )
@@ -322,9 +322,8 @@ def _contact_half_width(solution: Solution) -> tuple[float, bool]:
     contact = p_n < 0.0
     if not contact.any():
         return math.nan, True
-    half = 0.5 * system.spacing
-    width = 0.5 * (system.x[contact].max() - system.x[contact].min()) + half
-    return float(width), bool(contact[0] or contact[-1])
+    lo, hi = system.extent(contact)
+    return 0.5 * (hi - lo), bool(contact[0] or contact[-1])
 
 
 class MeshPath:
@@ -681,9 +680,8 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     q = float(w @ p_t)
     mu = case.friction.mu
     contact = p_n < 0.0
-    half = 0.5 * system.spacing
     if contact.any():
-        lo, hi = system.x[contact].min() - half, system.x[contact].max() + half
+        lo, hi = system.extent(contact)
         centre, half_width = 0.5 * (lo + hi), 0.5 * (hi - lo)
     else:
         centre = half_width = math.nan

@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .grid import node_cell_edges
+
 STATE_NAMES = {0: "separation", 1: "adhesion", 2: "slip"}
 
 #: Dataset name -> (long name, unit key: "length" | "stress" | "1").
@@ -72,16 +74,19 @@ class Result:
 
 
 def state_zones(x: np.ndarray, state: np.ndarray) -> list[tuple[str, float, float]]:
-    """Runs of equal state over the node cells [x_i - h/2, x_i + h/2] (uniform grid)."""
+    """Runs of equal state over the node cells [length], on any grid.
+
+    A node's cell reaches half way to its neighbours (at the ends, half the end
+    spacing beyond the end node): :func:`rolling_cli.grid.node_cell_edges`. On a
+    uniform grid of spacing Delta that is [x_i - Delta/2, x_i + Delta/2].
+    """
     if x.size == 0:
         return []
-    half = 0.5 * (x[1] - x[0]) if x.size > 1 else 0.0
+    cells = node_cell_edges(x)
     edges = np.flatnonzero(np.diff(state)) + 1
     starts = np.concatenate([[0], edges])
-    ends = np.concatenate([edges, [x.size]]) - 1
-    return [
-        (STATE_NAMES[int(state[s])], float(x[s] - half), float(x[e] + half)) for s, e in zip(starts, ends, strict=True)
-    ]
+    ends = np.concatenate([edges, [x.size]])
+    return [(STATE_NAMES[int(state[s])], float(cells[s]), float(cells[e])) for s, e in zip(starts, ends, strict=True)]
 
 
 def utc_timestamp() -> str:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import slip
+from .grid import ContactGrid, node_cell_edges
 from .influence import Compliance
 
 
@@ -23,7 +24,8 @@ from .influence import Compliance
 class ContactSystem:
     """Arrays of the discrete rolling problem.
 
-    Units: ``x``, ``weights``, ``spacing`` [length]; ``gap0`` [length];
+    Units: ``x``, ``weights`` [length]; ``spacing`` [length] the node spacing
+    (on a graded grid the largest one); ``gap0`` [length];
     ``S_nn``, ``S_nt`` [length/stress]; ``B_tn``, ``B_tt`` [1/stress] on slip rows
     (the gauge row holds displacements, [length/stress]); ``penalty_n``
     [stress/length], ``penalty_t`` [stress] are the solver's penalties, which
@@ -62,6 +64,16 @@ class ContactSystem:
         """True when the normal-tangential coupling blocks are present."""
         return self.S_nt is not None
 
+    def node_cells(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper edges of every node's cell [length] (:func:`~rolling_cli.grid.node_cell_edges`)."""
+        edges = node_cell_edges(self.x)
+        return edges[:-1], edges[1:]
+
+    def extent(self, nodes: np.ndarray) -> tuple[float, float]:
+        """Smallest and largest x [length] of the cells of the selected ``nodes`` (a mask or indices)."""
+        lo, hi = self.node_cells()
+        return float(lo[nodes].min()), float(hi[nodes].max())
+
     @property
     def zone_length(self) -> float:
         """Length of the potential contact zone, sum of the weights [length]."""
@@ -92,16 +104,18 @@ class ContactSystem:
         return out
 
 
-def automatic_penalties(S_nn: np.ndarray, B_tt: np.ndarray, spacing: float, direction: int) -> tuple[float, float]:
+def automatic_penalties(S_nn: np.ndarray, B_tt: np.ndarray, direction: int) -> tuple[float, float]:
     """Penalties scaled to the influence blocks: (r_n [stress/length], r_t [stress]).
 
     r_t = 1 / max|B_tt| over the slip rows (PHYSICS.md: this choice converged in
-    6 Newton steps where 1000x smaller took 120). r_n = 1 / (Delta max|D S_nn|),
-    D the first-order difference: the largest change of the normal approach
-    between neighbouring nodes per unit nodal pressure. Both are free of the
-    rigid constant of the log kernel, so the half-plane and BEM models get the
-    same scale. The kernels peak at the diagonal, so the maxima are taken over
-    the band |i - j| <= :data:`PENALTY_BAND` (O(n) work instead of O(n^2)).
+    6 Newton steps where 1000x smaller took 120). r_n = 1 / max|S_nn[i] - S_nn[up(i)]|:
+    the largest change of the normal approach between neighbouring nodes per
+    unit nodal pressure (on a uniform grid Delta max|D S_nn|, D the first-order
+    difference; the form needs no spacing, so graded grids get it too). Both
+    are free of the rigid constant of the log kernel, so the half-plane and BEM
+    models get the same scale. The kernels peak at the diagonal, so the maxima
+    are taken over the band |i - j| <= :data:`PENALTY_BAND` (O(n) work instead
+    of O(n^2)).
     """
     n = B_tt.shape[0]
     g = slip.gauge_index(n, direction)
@@ -110,8 +124,7 @@ def automatic_penalties(S_nn: np.ndarray, B_tt: np.ndarray, spacing: float, dire
     cols = np.clip(rows[:, None] + offsets[None, :], 0, n - 1)
     r_t = 1.0 / float(np.max(np.abs(B_tt[rows[:, None], cols])))
     up = rows - direction  # the upstream neighbour of every slip row
-    d_nn = (S_nn[rows[:, None], cols] - S_nn[up[:, None], cols]) / (-direction * spacing)
-    r_n = 1.0 / (spacing * float(np.max(np.abs(d_nn))))
+    r_n = 1.0 / float(np.max(np.abs(S_nn[rows[:, None], cols] - S_nn[up[:, None], cols])))
     return r_n, r_t
 
 
@@ -123,18 +136,22 @@ def build_system(
     compliance: Compliance,
     radius: float,
     direction: int,
-    spacing: float,
+    grid: ContactGrid | float,
     scheme: str = "fd",
     penalty: float | None = None,
 ) -> ContactSystem:
     """Assemble the contact system from a pair compliance.
 
-    ``radius`` is R* [length], ``direction`` the sign of V, ``spacing`` the node
-    spacing [length], ``scheme`` the slip derivative, ``penalty`` r_t [stress]
-    or ``None`` for automatic (r_n then keeps the automatic ratio r_n/r_t).
+    ``radius`` is R* [length], ``direction`` the sign of V, ``grid`` the contact
+    grid of the compliance (or, on a uniform grid, just its node spacing
+    [length]), ``scheme`` the slip derivative, ``penalty`` r_t [stress] or
+    ``None`` for automatic (r_n then keeps the automatic ratio r_n/r_t). On a
+    uniform grid the slip operator uses the one spacing, on a graded grid the
+    distances between neighbouring nodes.
     """
     x = compliance.x
     n = x.shape[0]
+    spacing, largest = _slip_spacing(x, grid)
     g = slip.gauge_index(n, direction)
     b_tt = slip.apply_t(compliance.S_tt, spacing, direction, scheme)
     b_tn = None
@@ -142,14 +159,14 @@ def build_system(
     if compliance.S_tn is not None:
         b_tn = slip.apply_t(compliance.S_tn, spacing, direction, scheme)
         gauge_tn = slip.downwind_row(compliance.S_tn, spacing, direction)
-    ref_n, ref_t = automatic_penalties(compliance.S_nn, b_tt, spacing, direction)
+    ref_n, ref_t = automatic_penalties(compliance.S_nn, b_tt, direction)
     r_n, r_t = ref_n, ref_t
     if penalty is not None:
         r_n, r_t = ref_n * penalty / ref_t, float(penalty)
     return ContactSystem(
         x=x,
         weights=compliance.weights,
-        spacing=spacing,
+        spacing=largest,
         gap0=0.5 * x**2 / radius,
         S_nn=compliance.S_nn,
         S_nt=compliance.S_nt,
@@ -166,3 +183,22 @@ def build_system(
         gauge_tt=slip.downwind_row(compliance.S_tt, spacing, direction),
         definite_normal=compliance.definite_normal,
     )
+
+
+#: Node distances may differ from a uniform spacing by this fraction (round-off of the node positions).
+UNIFORM_TOLERANCE = 1e-9
+
+
+def _slip_spacing(x: np.ndarray, grid: ContactGrid | float) -> tuple[float | np.ndarray, float]:
+    """The spacing argument of :func:`rolling_cli.slip.apply_t` and the largest node distance [length]."""
+    gaps = np.diff(x)
+    if isinstance(grid, ContactGrid):
+        if grid.size != x.size or not np.allclose(grid.x, x, rtol=0.0, atol=UNIFORM_TOLERANCE * grid.half_width):
+            raise ValueError("the compliance is not on the nodes of this contact grid")
+        if not grid.uniform:
+            return gaps, float(gaps.max())
+        grid = grid.spacing
+    spacing = float(grid)
+    if gaps.size and not np.allclose(gaps, spacing, rtol=UNIFORM_TOLERANCE, atol=0.0):
+        raise ValueError("a single node spacing was given for a graded grid: pass the ContactGrid")
+    return spacing, spacing

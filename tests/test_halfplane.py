@@ -7,6 +7,7 @@ from scipy.integrate import quad
 from rolling_cli import materials
 from rolling_cli.grid import NODE_COORDINATES, ContactGrid, shape_coefficients
 from rolling_cli.influence import combine, halfplane
+from rolling_cli.kernels import log_moments
 
 
 def _shape(grid, j, s):
@@ -91,3 +92,58 @@ def test_pair_is_sum_of_bodies_and_coupling_cancels_for_identical_bodies():
     rigid_a = combine(None, b, coupling=True)
     assert np.array_equal(rigid_a.S_nt, -b.S_nt)
     assert halfplane.pair_compliance(grid, 6e4, 0.31, 2.1e5, 0.28, coupling=False).S_nt is None
+
+
+def _graded(elements, order, seed=4):
+    lengths = 10.0 ** np.random.default_rng(seed).uniform(-2.0, 0.0, elements)  # lengths within 100x
+    return ContactGrid.graded(np.concatenate([[0.0], np.cumsum(lengths)]) - 0.4, order)
+
+
+@pytest.mark.parametrize("order", [0, 2])
+def test_graded_log_and_sign_matrices_match_quadrature(order):
+    """Exact element integrals on elements of very different lengths (no Toeplitz structure)."""
+    grid = _graded(9, order)
+    assert not grid.uniform
+    L = 2.0
+    log = halfplane.log_matrix(grid, L)
+    sgn = halfplane.sign_matrix(grid)
+    n = grid.size
+    rng = np.random.default_rng(5)
+    pairs = [(0, n - 1), (n - 1, 0), (n // 2, n // 2)] + [tuple(rng.integers(0, n, 2)) for _ in range(12)]
+    for i, j in pairs:
+        e = j // grid.nodes_per_element
+        lo, hi = grid.edges[e], grid.edges[e + 1]
+        xi = grid.x[i]
+        brk = [xi] if lo < xi < hi else None
+        ref_log, err = quad(
+            lambda s: _shape(grid, j, s) * np.log(abs(xi - s) / L) if s != xi else 0.0, lo, hi, points=brk, limit=200
+        )
+        ref_sgn = quad(lambda s: _shape(grid, j, s) * np.sign(xi - s), lo, hi, points=brk)[0]
+        # entries scale with the source element's length h_e: round-off of O(1) terms times h_e
+        h = hi - lo
+        assert log[i, j] == pytest.approx(ref_log, abs=max(10 * err, 1e-13 * h))
+        assert sgn[i, j] == pytest.approx(ref_sgn, abs=1e-13 * h)
+
+
+@pytest.mark.parametrize("order", [0, 2])
+def test_toeplitz_and_graded_paths_agree_on_a_uniform_grid(order):
+    """The same integrals by both paths: equal to round-off (the local coordinates differ in
+    the last bits: exact integers in the Toeplitz path, (x_i - centre_e) / half_e here)."""
+    grid = ContactGrid(1.5, 60, order, centre=0.2)
+    L = halfplane._length_scale(grid)
+    toeplitz = halfplane.log_matrix(grid, L)
+    graded = halfplane.graded_log_matrix(grid, L)
+    assert np.abs(graded - toeplitz).max() <= 1e-13 * np.abs(toeplitz).max()
+    assert np.abs(halfplane.graded_sign_matrix(grid) - halfplane.sign_matrix(grid)).max() <= 1e-14 * grid.half_width
+
+
+@pytest.mark.parametrize("c", [-1e6, -4.0001, -3.9999, 4.0001, 17.0, 1e8])
+def test_far_field_log_moments_around_the_series_switch(c):
+    """|c| > 4 uses the series in 1/c^2, 2 < |c| <= 4 12-point Gauss. Reference: 80-point
+    Gauss-Legendre of log1p(-x/c), converged to round-off for |c| >= 2 (error below
+    3.7^-160), plus the exact ln|c| int x^m; agreement to round-off of the O(ln|c|) terms."""
+    got = log_moments(np.array([c]))[0]
+    nodes, weights = np.polynomial.legendre.leggauss(80)
+    for m in range(3):
+        ref = weights @ (nodes**m * np.log1p(-nodes / c)) + np.log(abs(c)) * (2.0 / (m + 1) if m % 2 == 0 else 0.0)
+        assert got[m] == pytest.approx(ref, rel=1e-13, abs=1e-15 * max(1.0, np.log(abs(c))))

@@ -10,9 +10,12 @@ c = (1 - 2 nu)(1 + nu) / (2 E):
 (p_n <= 0 in compression). The log kernel leaves a free rigid constant: the
 reference length L only shifts w and u by constants, so the normal approach
 (overlap) of a half-plane is undefined and this model must be loaded by force.
-Element integrals are exact (:mod:`rolling_cli.kernels`). The grid is uniform,
-so each matrix is block-Toeplitz: only the 2 N_e - 1 element offsets are
-integrated and the matrix is gathered from them.
+Element integrals are exact (:mod:`rolling_cli.kernels`) for any element
+length. On a uniform grid each matrix is block-Toeplitz: only the 2 N_e - 1
+element offsets are integrated and the matrix is gathered from them. On a
+graded grid every (target node, source element) pair is integrated in its own
+element's local coordinate (:func:`graded_log_matrix`, :func:`graded_sign_matrix`),
+O(n N_e) work, the size of the matrix itself.
 """
 
 from __future__ import annotations
@@ -50,8 +53,49 @@ def _local_coordinates(grid: ContactGrid) -> np.ndarray:
     return 2.0 * offsets[:, None] + NODE_COORDINATES[grid.order][None, :]
 
 
+#: Target rows per block of the graded integration (bounds the (rows, N_e, 3) moment arrays).
+GRADED_BLOCK_PAIRS = 1 << 20
+
+
+def _graded_matrix(grid: ContactGrid, moments_of, log_length: float | None) -> np.ndarray:
+    """M[i, j] = half_e sum_m moments(c_ie)[m] A[k, m] (+ half_e ln(half_e / L) int N_k) for node j = (e, k).
+
+    c_ie is node i's local coordinate in element e; rows are integrated in
+    blocks of at most :data:`GRADED_BLOCK_PAIRS` (node, element) pairs.
+    """
+    half = 0.5 * grid.element_lengths
+    coeff = shape_coefficients(grid.order)
+    deg = coeff.shape[1]
+    constant = None
+    if log_length is not None:
+        constant = np.log(half / log_length)[:, None] * shape_integrals(grid.order)[None, :]  # (e, k)
+    n = grid.size
+    out = np.empty((n, grid.elements, deg))
+    rows = max(1, GRADED_BLOCK_PAIRS // grid.elements)
+    for lo in range(0, n, rows):
+        c = (grid.x[lo : lo + rows, None] - grid.element_centres[None, :]) / half[None, :]
+        block = np.einsum("iem,km->iek", moments_of(c)[..., :deg], coeff)
+        if constant is not None:
+            block += constant[None]
+        out[lo : lo + rows] = block
+    out *= half[None, :, None]
+    return out.reshape(n, n)
+
+
+def graded_log_matrix(grid: ContactGrid, length_scale: float) -> np.ndarray:
+    """L[i, j] = int N_j(s) ln(|x_i - s| / length_scale) ds [length], any grid (no Toeplitz structure)."""
+    return _graded_matrix(grid, log_moments, length_scale)
+
+
+def graded_sign_matrix(grid: ContactGrid) -> np.ndarray:
+    """Sg[i, j] = int N_j(s) sgn(x_i - s) ds [length], any grid (no Toeplitz structure)."""
+    return _graded_matrix(grid, sign_moments, None)
+
+
 def log_matrix(grid: ContactGrid, length_scale: float) -> np.ndarray:
-    """L[i, j] = int N_j(s) ln(|x_i - s| / length_scale) ds [length]."""
+    """L[i, j] = int N_j(s) ln(|x_i - s| / length_scale) ds [length] (block-Toeplitz path when uniform)."""
+    if not grid.uniform:
+        return graded_log_matrix(grid, length_scale)
     half = 0.5 * grid.element_length
     coeff = shape_coefficients(grid.order)
     moments = log_moments(_local_coordinates(grid))  # (o, a, power)
@@ -64,7 +108,9 @@ def log_matrix(grid: ContactGrid, length_scale: float) -> np.ndarray:
 
 
 def sign_matrix(grid: ContactGrid) -> np.ndarray:
-    """Sg[i, j] = int N_j(s) sgn(x_i - s) ds [length]."""
+    """Sg[i, j] = int N_j(s) sgn(x_i - s) ds [length] (block-Toeplitz path when uniform)."""
+    if not grid.uniform:
+        return graded_sign_matrix(grid)
     half = 0.5 * grid.element_length
     coeff = shape_coefficients(grid.order)
     moments = sign_moments(_local_coordinates(grid))

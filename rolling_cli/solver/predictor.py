@@ -131,6 +131,7 @@ def secant(x: np.ndarray, points: list[tuple[float, State, Zones]], s: float, mu
         pn0 = _warp(x, state0.p_n, b0[edges], target[edges])
         pt0 = _warp(x, state0.p_t, b0, target)
     p_n = np.minimum(pn1 + t * (pn1 - pn0), 0.0)
+    p_n[~_inside_contact(x, zones1, target)] = 0.0  # no stray pressure beyond the predicted edges
     p_t = np.clip(pt1 + t * (pt1 - pt0), mu * p_n, -mu * p_n)
     return State(
         p_n,
@@ -138,6 +139,14 @@ def secant(x: np.ndarray, points: list[tuple[float, State, Zones]], s: float, mu
         state1.overlap + t * (state1.overlap - state0.overlap),
         state1.creep + t * (state1.creep - state0.creep),
     )
+
+
+def _inside_contact(x: np.ndarray, zones: Zones, boundaries: np.ndarray) -> np.ndarray:
+    """Nodes inside the runs of ``zones``' pattern that are in contact, with its boundaries moved to
+    ``boundaries``."""
+    knots = np.concatenate([[-np.inf], boundaries, [np.inf]])
+    run = np.searchsorted(knots, x, side="right") - 1  # the run each node falls in
+    return np.array(zones.pattern)[np.clip(run, 0, len(zones.pattern) - 1)] != 0
 
 
 def transfer(state: State, x_from: np.ndarray, x_to: np.ndarray, mu: float) -> State:

@@ -1,0 +1,52 @@
+"""Solve a case on an explicit contact grid (graded or uniform) through :func:`rolling_cli.solve`.
+
+The case fixes everything but the mesh: its plan (Hertz scale, zone, effects)
+is kept and only the contact grid is replaced, so the influence is built on
+the given element edges and the solver sees a prebuilt contact system. A
+warm start (tractions on the new grid's nodes, overlap, creepage) can be
+passed, for example the transfer of a coarser solution
+(:func:`rolling_cli.adapt.transfer.transfer_tractions`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+from ..case import Case
+from ..grid import ContactGrid
+from ..influence import halfplane
+from ..pipeline import build_contact_system, measured_plan, solve
+from ..result import Result
+from ..solver.formulation import State
+from ..system import ContactSystem, build_system
+
+
+def system_on_grid(case: Case, grid: ContactGrid, use_cache: bool = True) -> ContactSystem:
+    """The case's contact system with its contact grid replaced by ``grid`` (same zone).
+
+    Graded grids need the half-plane model: the BEM influence is memoised and
+    cached on the zone's width and element count, not on its edges, so a graded
+    grid would silently get a uniform grid's influence. A graded grid's
+    half-plane influence is built outside the in-process memo, which would
+    otherwise keep the dense matrices of every level of an adaptive run.
+    """
+    the_plan = dataclasses.replace(measured_plan(case, use_cache), grid=grid)
+    if not grid.uniform and the_plan.effects.influence != "half-plane":
+        raise ValueError("graded contact grids need the half-plane influence model (the BEM takes none yet)")
+    if grid.uniform:
+        return build_contact_system(case, the_plan, use_cache)
+    a, b = case.bodies.A, case.bodies.B
+    compliance = halfplane.pair_compliance(grid, a.modulus, a.ratio, b.modulus, b.ratio, the_plan.effects.coupling)
+    penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
+    scheme = case.discretization.slip_derivative
+    return build_system(compliance, the_plan.radius, case.rolling.direction, grid, scheme, penalty)
+
+
+def solve_on_grid(case: Case, grid: ContactGrid, start: State | None = None, use_cache: bool = True) -> Result:
+    """:func:`rolling_cli.solve` of ``case`` on ``grid``; ``start`` a warm start on its nodes.
+
+    The result's ``contact_elements`` attribute is the grid's element count.
+    """
+    result = solve(case, start=start, system=system_on_grid(case, grid, use_cache), use_cache=use_cache)
+    result.attributes["contact_elements"] = grid.elements
+    return result
