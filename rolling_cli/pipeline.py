@@ -44,13 +44,13 @@ from .influence.build import pair_compliance
 from .references import carter, hertz, thin_layer
 from .resources import check_resources
 from .result import Result, node_states, utc_timestamp
-from .solver import continuation, control, formulation, predictor, strategies
+from .solver import continuation, control, formulation, matrix_free, predictor, strategies
 from .solver.budget import Budget
 from .solver.formulation import State
 from .solver.initial import carter_ratio_for_creep, cold_start
 from .solver.strategies import Controls, Solution, StrategyFailed, Task
 from .stresses import power
-from .system import ContactSystem, build_system
+from .system import ContactSystem, abs_max, build_system
 from .validity import half_space_check
 
 log = logging.getLogger(__name__)
@@ -654,7 +654,7 @@ def coupling_strength(system: ContactSystem) -> float | None:
         return None
     rows = np.ones(system.size, dtype=bool)
     rows[system.gauge] = False
-    return float(np.abs(system.B_tn[rows]).max() / np.abs(system.B_tt[rows]).max())
+    return abs_max(system.B_tn, rows) / abs_max(system.B_tt, rows)
 
 
 def assemble(level: Level, history: list[dict], timings: dict, converged: bool = True) -> Result:
@@ -736,6 +736,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "contact_elements": the_plan.grid.elements,
         "effects": effects.to_json(),
         "coupling_strength": strength or 0.0,
+        **matrix_free.result_attributes(system),
         "effects_line": effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,
