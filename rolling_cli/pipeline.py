@@ -417,7 +417,12 @@ class MeshPath:
                 last.case.discretization.zone,
                 zone,
             )
-            grown = dataclasses.replace(case, discretization=dataclasses.replace(case.discretization, zone=zone))
+            # the same element length on the larger zone: the resolution the case asked for (and a layer's
+            # elements stay at most b/2 long)
+            elements = int(math.ceil(case.discretization.contact_elements * zone / case.discretization.zone - 1e-9))
+            grown = dataclasses.replace(
+                case, discretization=dataclasses.replace(case.discretization, zone=zone, contact_elements=elements)
+            )
             yield self._announce(Level("enlarged zone", grown, plan(grown, half_width=last.plan.half_width)))
 
     def predict(self, points: list, number: float) -> tuple[State, bool, bool] | None:
@@ -534,8 +539,10 @@ def solve(
     result = assemble(final, path.history, path.timings)
     if final.case.discretization.zone != case.discretization.zone:
         result.attributes["zone_note"] = (
-            f"discretization.zone enlarged from {case.discretization.zone:g} to {final.case.discretization.zone:g}: "
-            "the contact reached the edge of the requested zone"
+            f"discretization.zone enlarged from {case.discretization.zone:g} to {final.case.discretization.zone:g} "
+            f"(contact_elements {case.discretization.contact_elements} to "
+            f"{final.case.discretization.contact_elements}, the same element length): the contact reached the "
+            "edge of the requested zone"
         )
         result.case_toml = case_to_toml(final.case)
     result.attributes["time_total_solve"] = time.perf_counter() - t0
