@@ -1,0 +1,63 @@
+"""Sweeps on a Dask cluster (optional extra ``rolling-cli[dask]``).
+
+``--scheduler tcp://HOST:PORT`` connects to a running ``dask.distributed``
+scheduler; ``--scheduler local:N`` starts a ``LocalCluster`` of N worker
+processes with one thread each. The sweep hands whole chunks to the cluster
+(cases that share an influence and a warm-start path stay together) and the
+records stream back to the single writer in this process, so the file, its
+layout, ``--resume`` and failure records are those of a local run. Each task
+runs with one BLAS thread, so the numbers are bitwise the serial run's.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+
+from .errors import CaseError
+
+
+def solve_chunk_task(chunk, warm: bool, use_cache: bool) -> list:
+    """A cluster task: the records of one chunk, solved with one BLAS thread."""
+    from . import blas
+    from .sweep import solve_chunk
+
+    with blas.single_threaded():
+        return list(solve_chunk(chunk, warm, use_cache))
+
+
+@contextlib.contextmanager
+def cluster(scheduler: str):
+    """Yields ``(executor, workers)``: a concurrent.futures executor on the cluster and its worker count."""
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise CaseError(
+            f"--scheduler {scheduler}: dask.distributed is not installed; allowed: pip install 'rolling-cli[dask]'"
+        ) from None
+    local = None
+    if scheduler.startswith("local:"):
+        try:
+            count = int(scheduler.split(":", 1)[1])
+        except ValueError:
+            count = 0
+        if count < 1:
+            raise CaseError(
+                f"--scheduler {scheduler}: no worker count; allowed: local:N with N >= 1, or tcp://HOST:PORT"
+            )
+        local = LocalCluster(
+            n_workers=count, threads_per_worker=1, processes=True, dashboard_address=None, silence_logs=logging.ERROR
+        )
+    try:
+        try:
+            client = Client(local if local is not None else scheduler, timeout="20s")
+        except (OSError, TimeoutError, ValueError) as err:
+            raise CaseError(
+                f"--scheduler {scheduler}: cannot connect ({err}); allowed: the address of a running dask scheduler"
+            ) from None
+        with client:
+            workers = max(1, sum(client.nthreads().values()))
+            yield client.get_executor(pure=False), workers
+    finally:
+        if local is not None:
+            local.close()
