@@ -67,6 +67,8 @@ CHUNK = 8
 #: Seconds between two commits of the sweep file (the end of a sweep always commits);
 #: ``ROLLC_FLUSH_SECONDS`` sets it (smaller: less lost to a kill, more commits).
 FLUSH_SECONDS = float(os.environ.get("ROLLC_FLUSH_SECONDS", "1.0"))
+#: The largest share of a sweep's time its commits may take (they are spaced out to keep it).
+COMMIT_SHARE = 0.02
 #: Seconds an interrupted parallel sweep waits for its workers' finished cases.
 STOP_SECONDS = 30.0
 #: Rows of the end-of-sweep table shown at its head and tail (all of them up to twice this).
@@ -233,11 +235,17 @@ class FileRecords(Mapping):
 
 
 class _Sink:
-    """Takes finished records: to the writer (a commit at most every FLUSH_SECONDS), the report, the progress."""
+    """Takes finished records: to the writer, the report, the progress.
+
+    A commit follows at most every FLUSH_SECONDS, and never sooner than
+    :data:`COMMIT_SHARE` of the time since the last one allows: the writer
+    then costs at most that share of the run, whatever a commit costs here.
+    """
 
     def __init__(self, writer: ResultFile, report: SweepReport, progress) -> None:
         self.writer, self.report, self.progress = writer, report, progress
         self.last = time.monotonic()
+        self.interval = FLUSH_SECONDS
 
     def add(self, record: Record, notify: bool = True) -> None:
         start = time.perf_counter()
@@ -248,9 +256,11 @@ class _Sink:
             row = row_from_failure(record.index, record.values, record.message, record.seconds)
         self.writer.add(row)
         self.report.note(record)
-        if time.monotonic() - self.last >= FLUSH_SECONDS:
+        if time.monotonic() - self.last >= self.interval:
+            begun = time.monotonic()
             self.writer.commit()
             self.last = time.monotonic()
+            self.interval = max(FLUSH_SECONDS, (self.last - begun) / COMMIT_SHARE)
         self.report.write_seconds += time.perf_counter() - start
         if notify and self.progress:
             report = self.report

@@ -21,10 +21,8 @@ the final trim gives every dimension its exact length.
 from __future__ import annotations
 
 import json
-import logging
 import math
 import os
-from collections.abc import Iterable
 
 import h5py
 import numpy as np
@@ -49,14 +47,18 @@ from .layout import (
 from .outputs import WriteError
 from .rows import GROUP_HOOKS, Row
 
-log = logging.getLogger(__name__)
-
 #: HDF5 format bounds: the oldest objects that do the job (netCDF-4 reads them), 1.8 features allowed.
 LIBVER = ("earliest", "v108")
 #: Bytes per chunk of the (case, node) variables; (case) variables take CHUNK_ROWS rows.
 CHUNK_BYTES = 1 << 16
 CHUNK_ROWS = 1024
-#: Rows per block when a rebuild copies the committed rows (bounds its memory).
+#: The first capacity of a file: the rows that fit in PREALLOCATE bytes, at least FIRST_ROWS (or its
+#: total, when smaller); then GROWTH times more at each rebuild. Rebuilds stay few and their copies
+#: proportional to the file.
+FIRST_ROWS = 256
+PREALLOCATE = 1 << 28
+GROWTH = 4
+#: Rows per block when a rebuild turns a shared grid into a per-case one (bounds its memory).
 BLOCK_ROWS = 4096
 _INTERNAL = {"DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"}
 
@@ -71,8 +73,17 @@ def _node_meta() -> dict:
     return {**DATASETS, **NODE_FIELDS}
 
 
-def _values(kind: Kind, values: Iterable) -> np.ndarray:
+def _values(kind: Kind, values: list) -> np.ndarray:
     """A column of ``kind`` from Python values (None -> the fill value)."""
+    try:  # the common case, in numpy's own loop: no value missing, text in ASCII
+        if kind.name == "str":
+            return np.array(values, dtype=kind.dtype) if all(type(v) is str for v in values) else _slow(kind, values)
+        return np.array(values, dtype=kind.dtype)
+    except (TypeError, ValueError, UnicodeEncodeError):
+        return _slow(kind, values)
+
+
+def _slow(kind: Kind, values: list) -> np.ndarray:
     fill = kind.fill
     if kind.name == "str":
         return np.array([fill if v is None else encode(v) for v in values], dtype=kind.dtype)
@@ -226,58 +237,51 @@ class ResultFile:
 
     def _plan(self, rows: list[Row]) -> dict | None:
         """The structure the rows need, or None when they fit the file as it is."""
-        schema = {k: Var(v.dims, v.kind, dict(v.attrs)) for k, v in self.schema.items()}
-        history = {k: Var(v.dims, v.kind, dict(v.attrs)) for k, v in self.history.items()}
-        grid = dict(self.grid)
+        schema, history, grid = dict(self.schema), dict(self.history), dict(self.grid)
         node_cap = self.node_cap
         units = next((r.units for r in rows if r.units), None)
         if units and not self.schema:
             self.units = {**self.units, **units}
+        node_meta = _node_meta()
         for key in self.keys:
             name = coordinate_name(key)
+            attrs = {"long_name": f"swept case key {key}", "case_key": key}
             for row in rows:
-                kind = merge(schema[name].kind if name in schema else None, kind_of(row.coords.get(key)))
-                if kind is not None:
-                    attrs = {"long_name": f"swept case key {key}", "case_key": key}
-                    schema[name] = Var(("case",), kind, schema[name].attrs if name in schema else attrs)
-        node_meta = _node_meta()
+                _widen(schema, name, kind_of(row.coords.get(key)), ("case",), attrs)
         for row in rows:
             for name, value in row.scalars.items():
-                kind = merge(schema[name].kind if name in schema else None, kind_of(value))
-                if kind is not None:
-                    old = schema.get(name)
-                    schema[name] = Var(("case",), kind, old.attrs if old else describe(name, SCALARS, self.units))
+                var = schema.get(name)
+                if var is not None and type(value) in _FAST[var.kind.name]:
+                    continue
+                if not _fits(var, value):
+                    _widen(schema, name, kind_of(value), ("case",), describe(name, SCALARS, self.units))
             for name, array in row.arrays.items():
                 node_cap = max(node_cap, array.size)
-                kind = merge(schema[name].kind if name in schema else None, array_kind(array))
+                dims = ("case", "node")
+                if name in GRID and (name not in schema or schema[name].dims == ("node",)):
+                    shared = grid.setdefault(name, array)
+                    if shared.shape == array.shape and np.array_equal(shared, array):
+                        dims = ("node",)
+                    else:
+                        del grid[name]
                 old = schema.get(name)
-                attrs = old.attrs if old else describe(name, node_meta, self.units)
-                if name in GRID:
-                    shared = grid.get(name) if (old is None or old.dims == ("node",)) else None
-                    if old is None and name not in grid:
-                        shared = grid[name] = array
-                    if shared is not None and (shared.shape != array.shape or not np.array_equal(shared, array)):
-                        grid.pop(name, None)
-                        shared = None
-                    dims = ("node",) if shared is not None else ("case", "node")
-                else:
-                    dims = ("case", "node")
-                schema[name] = Var(dims, kind, attrs)
+                if old is None or old.dims != dims or old.kind.dtype != array.dtype:
+                    _widen(schema, name, array_kind(array), dims, describe(name, node_meta, self.units))
             for entry in row.history:
                 for name, value in entry.items():
-                    kind = merge(history[name].kind if name in history else None, kind_of(value))
-                    if kind is not None:
-                        old = history.get(name)
-                        attrs = old.attrs if old else describe(name, HISTORY, self.units)
-                        history[name] = Var(("row",), kind, attrs)
+                    var = history.get(name)
+                    if var is not None and type(value) in _FAST[var.kind.name]:
+                        continue
+                    if not _fits(var, value):
+                        _widen(history, name, kind_of(value), ("row",), describe(name, HISTORY, self.units))
         need_rows = self.done + len(rows)
         need_hist = self.hist_done + sum(len(r.history) for r in rows)
         extras = self.extras | {name for r in rows for name in r.extras}
         same = (
             schema.keys() == self.schema.keys()
-            and all(schema[k].kind == self.schema[k].kind and schema[k].dims == self.schema[k].dims for k in schema)
+            and all(schema[k] is self.schema[k] for k in schema)
             and history.keys() == self.history.keys()
-            and all(history[k].kind == self.history[k].kind for k in history)
+            and all(history[k] is self.history[k] for k in history)
             and node_cap == self.node_cap
             and need_rows <= self.case_cap
             and need_hist <= self.hist_cap
@@ -285,7 +289,10 @@ class ResultFile:
         )
         if same:
             return None
-        case_cap = self._capacity(need_rows, self.case_cap, self.total)
+        row_bytes = sum(
+            v.kind.dtype.itemsize * (node_cap if "node" in v.dims else 1) for v in schema.values() if "case" in v.dims
+        )
+        case_cap = self._capacity(need_rows, self.case_cap, self.total, PREALLOCATE // max(row_bytes, 1))
         hist_cap = self._capacity(need_hist, self.hist_cap, None)
         if need_rows and case_cap > need_rows:  # room for the history rows of the rows to come
             hist_cap = max(hist_cap, math.ceil(1.25 * case_cap * need_hist / need_rows))
@@ -301,11 +308,12 @@ class ResultFile:
         }
 
     @staticmethod
-    def _capacity(need: int, current: int, total) -> int:
-        """Room for ``need`` rows: doubling (at least 16), never beyond a known total."""
+    def _capacity(need: int, current: int, total, first: int = 0) -> int:
+        """Room for ``need`` rows: at first ``first`` rows (at least :data:`FIRST_ROWS`), then four times
+        as many at each growth, never beyond a known total."""
         if need <= current:
             return current
-        grown = max(need, 2 * current, 16)
+        grown = max(need, GROWTH * current, FIRST_ROWS, first)
         if total is not None:
             grown = min(grown, max(int(total), need))
         return grown
@@ -445,31 +453,25 @@ class ResultFile:
     def _copy(self, old, new, plan: dict) -> None:
         """The committed rows of ``old`` into ``new``, block by block (kinds widened, grids broadcast)."""
         n, m = self.done, self.hist_done
-        nodes = old["nodes"] if "nodes" in old else None
-        for start in range(0, n, BLOCK_ROWS):
-            stop = min(n, start + BLOCK_ROWS)
-            new["case"][start:stop] = old["case"][start:stop]
-            for name, var in self.schema.items():
-                target = plan["schema"][name]
-                if target.dims == ("node",):
-                    continue
-                if var.dims == ("node",):  # a shared grid that is per case from now on
+        solved = _get(old, "nodes", 0, n) > 0 if "nodes" in old else np.ones(n, dtype=bool)
+        _copy_rows(old, new, "case", n, plan["node_cap"])
+        for name, var in self.schema.items():
+            target = plan["schema"][name]
+            if target.dims == ("node",):
+                continue
+            if var.dims == ("node",):  # a shared grid that is per case from now on
+                grid = _get(old, name, 0, self.node_cap)
+                for start in range(0, n, BLOCK_ROWS):
+                    stop = min(n, start + BLOCK_ROWS)
                     block = np.full((stop - start, plan["node_cap"]), target.kind.fill, dtype=target.kind.dtype)
-                    solved = nodes[start:stop] > 0 if nodes is not None else np.ones(stop - start, bool)
-                    block[solved, : self.node_cap] = old[name][()]
-                    new[name][start:stop] = block
-                elif var.dims == ("case",):
-                    new[name][start:stop] = old[name][start:stop].astype(target.kind.dtype)
-                else:
-                    new[name][start:stop, : self.node_cap] = old[name][start:stop, : self.node_cap].astype(
-                        target.kind.dtype
-                    )
-        for start in range(0, m, BLOCK_ROWS * 16):
-            stop = min(m, start + BLOCK_ROWS * 16)
-            group, source = new[CONVERGENCE], old[CONVERGENCE]
-            group["case_index"][start:stop] = source["case_index"][start:stop]
-            for name in self.history:
-                group[name][start:stop] = source[name][start:stop].astype(plan["history"][name].kind.dtype)
+                    block[solved[start:stop], : self.node_cap] = grid
+                    _put(new, name, start, block)
+            else:
+                _copy_rows(old, new, name, n, self.node_cap, target.kind.dtype)
+        group, source = new[CONVERGENCE], old[CONVERGENCE]
+        for name in ("case_index", *self.history):
+            dtype = plan["history"][name].kind.dtype if name in plan["history"] else None
+            _copy_rows(source, group, name, m, 0, dtype)
         for name in self.extras:
             old.copy(old[name], new, name=name)
 
@@ -477,8 +479,8 @@ class ResultFile:
         """The rows' values at rows ``done`` on (and their histories at ``hist_done`` on)."""
         if not rows:
             return
-        start, stop = self.done, self.done + len(rows)
-        handle["case"][start:stop] = [r.index for r in rows]
+        start = self.done
+        _put(handle, "case", start, np.array([r.index for r in rows], dtype=np.int64))
         by_name = {coordinate_name(k): k for k in self.keys}
         for name, var in schema.items():
             if var.dims == ("node",):
@@ -488,27 +490,97 @@ class ResultFile:
                     values = [r.coords.get(by_name[name]) for r in rows]
                 else:
                     values = [r.scalars.get(name) for r in rows]
-                handle[name][start:stop] = _values(var.kind, values)
+                _put(handle, name, start, _values(var.kind, values))
             else:
                 block = np.full((len(rows), node_cap), var.kind.fill, dtype=var.kind.dtype)
                 for i, row in enumerate(rows):
                     array = row.arrays.get(name)
                     if array is not None:
                         block[i, : array.size] = array
-                handle[name][start:stop] = block
+                _put(handle, name, start, block)
         entries = [(r.index, e) for r in rows for e in r.history]
         if entries:
             group = handle[CONVERGENCE]
-            lo, hi = self.hist_done, self.hist_done + len(entries)
-            group["case_index"][lo:hi] = [index for index, _ in entries]
+            lo = self.hist_done
+            _put(group, "case_index", lo, np.array([index for index, _ in entries], dtype=np.int64))
             for name, var in history.items():
-                group[name][lo:hi] = _values(var.kind, [e.get(name) for _, e in entries])
+                _put(group, name, lo, _values(var.kind, [e.get(name) for _, e in entries]))
 
     def _write_extras(self, handle, rows: list[Row]) -> None:
         for row in rows:
             for name, payload in row.extras.items():
                 group = handle.require_group(name).create_group(f"case_{row.index:06d}")
                 GROUP_HOOKS[name].write(group, payload)
+
+
+def _put(group, name: str, start: int, values: np.ndarray) -> None:
+    """Write ``values`` into rows ``start``.. (all columns from the first) of a dataset: one HDF5 call."""
+    if values.shape[0] == 0:
+        return
+    dataset = h5py.h5d.open(group.id, name.encode())
+    space = dataset.get_space()
+    space.select_hyperslab((start,) + (0,) * (values.ndim - 1), values.shape)
+    dataset.write(h5py.h5s.create_simple(values.shape), space, np.ascontiguousarray(values))
+
+
+def _get(group, name: str, start: int, stop: int, columns: int | None = None) -> np.ndarray:
+    """Rows ``start:stop`` (and the first ``columns`` columns) of a dataset: one HDF5 call."""
+    dataset = h5py.h5d.open(group.id, name.encode())
+    space = dataset.get_space()
+    shape = (stop - start, *((columns,) if space.shape[1:] and columns is not None else space.shape[1:]))
+    out = np.empty(shape, dtype=dataset.dtype)
+    if shape[0] and all(shape):
+        space.select_hyperslab((start,) + (0,) * (len(shape) - 1), shape)
+        dataset.read(h5py.h5s.create_simple(shape), space, out)
+    return out
+
+
+def _copy_rows(old, new, name: str, n: int, columns: int, dtype=None) -> None:
+    """The first ``n`` rows (and ``columns`` columns) of a dataset of ``old`` into ``new``, ~32 MB at a time."""
+    row_bytes = max(1, columns) * 16
+    step = max(1, (1 << 25) // row_bytes)
+    for start in range(0, n, step):
+        block = _get(old, name, start, min(n, start + step), columns or None)
+        _put(new, name, start, block if dtype is None else block.astype(dtype))
+
+
+_PLAIN = {bool: "bool", np.bool_: "bool", int: "i8", float: "f8", np.float64: "f8", np.int64: "i8"}
+#: Python types a kind stores as they are (the planning fast path; None: a missing value).
+_FAST = {
+    "f8": {float, np.float64, int, np.int64, type(None)},
+    "i8": {int, np.int64, type(None)},
+    "bool": {bool, np.bool_, type(None)},
+    "i1": {type(None)},
+    "str": {type(None)},
+}
+
+
+def _fits(var: Var | None, value) -> bool:
+    """Whether ``var`` stores ``value`` as it is (None always fits an existing variable): the fast path
+    of planning, a type lookup per value."""
+    if var is None:
+        return value is None
+    if value is None:
+        return True
+    kind = var.kind.name
+    plain = _PLAIN.get(type(value))
+    if plain is not None:
+        return plain == kind or (kind == "f8" and plain != "bool")
+    if isinstance(value, str) and kind == "str":
+        return len(value) <= var.kind.width and value.isascii() or len(value.encode()) <= var.kind.width
+    return merge(var.kind, kind_of(value)) == var.kind
+
+
+def _widen(table: dict[str, Var], name: str, kind: Kind | None, dims: tuple[str, ...], attrs: dict) -> None:
+    """Make ``table[name]`` hold values of ``kind`` with ``dims`` (a new Var only when something changes)."""
+    old = table.get(name)
+    if old is None:
+        if kind is not None:
+            table[name] = Var(dims, kind, attrs)
+        return
+    new = merge(old.kind, kind)
+    if new != old.kind or dims != old.dims:
+        table[name] = Var(dims, new, old.attrs)
 
 
 def _skeleton(path: str) -> None:

@@ -23,9 +23,10 @@ TIMES = ("time", "time_influence", "time_solve")
 linux = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc and RLIMIT_FSIZE semantics of Linux")
 
 
-def _rollc(args, limit=None, env=None, **kwargs):
-    """``rollc ARGS`` as a new process, optionally under a file-size limit of ``limit`` bytes."""
-    code = "import sys\n"
+def _rollc(args, limit=None, env=None, setup="", **kwargs):
+    """``rollc ARGS`` as a new process, optionally under a file-size limit of ``limit`` bytes
+    (``setup``: Python run first)."""
+    code = f"import sys\n{setup}\n"
     if limit is not None:
         code += f"import resource\nresource.setrlimit(resource.RLIMIT_FSIZE, ({limit}, {limit}))\n"
     code += "from rolling_cli.cli import main\nmain()\n"
@@ -73,23 +74,28 @@ def test_a_full_disk_during_solve_fails_cleanly(tmp_path):
 
 @linux
 def test_a_full_disk_during_a_sweep_keeps_the_committed_cases(tmp_path):
-    """The sweep file grows by rebuilds; the one that does not fit the limit fails before HDF5 writes.
-    The cases committed before stay readable, and --resume completes the study exactly."""
+    """The sweep file grows by rebuilds (here from 16 rows, four times larger each time, as a large
+    study grows from 256 MB); the one that does not fit the limit fails before HDF5 writes. The cases
+    committed before stay readable, and --resume completes the study exactly."""
     case = write_case(tmp_path, SMALL)
-    args = ["-q", "sweep", case, "--set", "friction.mu=0.02:1:60", "--workers", 1]
+    spec = "friction.mu=0.02:1:80"
+    args = ["-q", "sweep", case, "--set", spec, "--workers", 1]
     out = tmp_path / "s.h5"
-    proc = _rollc([*args, "-o", out], limit=700_000, env={"ROLLC_FLUSH_SECONDS": "0"})
+    small_steps = (
+        "import rolling_cli.writer as w, rolling_cli.sweep as s\n"
+        "w.PREALLOCATE, w.FIRST_ROWS, s.COMMIT_SHARE = 0, 16, 1e9  # small steps, a commit after every case"
+    )
+    proc = _rollc([*args, "-o", out], limit=600_000, env={"ROLLC_FLUSH_SECONDS": "0"}, setup=small_steps)
     _, err = proc.communicate(timeout=300)
     assert proc.returncode == 1, err
     message = err.decode().strip()
     assert message.startswith(f"error: {out}: cannot write: File too large; the ") and "--resume" in message
     kept, _ = _rows(out)
-    assert 16 <= len(kept["case"]) < 60 and kept["converged"].all()
+    assert 16 <= len(kept["case"]) < 80 and kept["converged"].all()
     assert not _leftovers(tmp_path)
-    resumed = _rollc([*args, "-o", out, "--resume"])
-    assert _finish(resumed) == 0
+    assert _finish(_rollc([*args, "-o", out, "--resume"])) == 0
     whole = tmp_path / "whole.h5"
-    assert _finish(_rollc([*args, "-o", whole])) == 0
+    sweep.run(load_case(case), sweep.spec_from_options([spec], False), str(whole))
     _assert_same(out, whole)
 
 
@@ -108,7 +114,7 @@ def test_kill_9_at_random_moments_always_leaves_a_file_that_resumes_to_the_same_
     trusted rows is the uninterrupted run's row bit for bit, and --resume ends with the same file."""
     rng = np.random.default_rng(11)
     case = write_case(tmp_path, SMALL)
-    spec = ["--set", "friction.mu=0.005:1:400"]
+    spec = ["--set", "friction.mu=0.005:1:300"]
     whole = tmp_path / "whole.h5"
     sweep.run(load_case(case), sweep.spec_from_options([spec[1]], False), str(whole))
     reference, fields = _rows(whole)
@@ -121,7 +127,7 @@ def test_kill_9_at_random_moments_always_leaves_a_file_that_resumes_to_the_same_
         started = time.time()
         while not out.exists() and proc.poll() is None and time.time() - started < 120:
             time.sleep(0.01)
-        time.sleep(rng.uniform(0.0, 0.6))
+        time.sleep(rng.uniform(0.0, 0.4))
         if proc.poll() is not None:
             break  # finished before the kill: the remaining kills have nothing to hit
         proc.send_signal(signal.SIGKILL)
@@ -186,24 +192,24 @@ def test_kill_9_of_a_parallel_sweep_leaves_no_orphans(tmp_path):
 
 @linux
 def test_sigterm_of_a_parallel_sweep_keeps_the_cases_finished_in_its_workers(tmp_path):
-    """Chunks of 8 cold-started cases (~0.1-0.2 s each); SIGTERM halfway through the second round of
-    chunks. The file keeps the parts of the chunks the workers had finished (before, only whole chunks
-    were kept)."""
-    case = write_case(tmp_path, case_dict(**{"discretization.contact_elements": 500}))
+    """Chunks of 8 cold-started cases (~0.1 s each), eight chunks, two workers: SIGTERM soon after the
+    first commit, while both workers are inside later chunks. The file keeps the parts of the chunks
+    they had finished (before, only whole chunks were kept), and --resume completes it."""
+    case = write_case(tmp_path, case_dict(**{"discretization.contact_elements": 300}))
     out = tmp_path / "s.h5"
     args = ["-q", "sweep", case, "--set", "friction.mu=0.1:0.9:64", "--no-warm-start"]
-    proc = _rollc([*args, "-o", out, "--workers", 2])
+    proc = _rollc([*args, "-o", out, "--workers", 2], env={"ROLLC_FLUSH_SECONDS": "0"})
     deadline = time.time() + 300
     while time.time() < deadline:
         try:
             with h5py.File(out) as f:
-                if cases_complete(f) >= 8:
-                    chunk_seconds = sweep.CHUNK * float(np.mean(f["time"][: cases_complete(f)]))
+                if cases_complete(f) >= 1:
+                    case_seconds = float(np.mean(f["time"][: cases_complete(f)]))
                     break
         except (OSError, KeyError):
             pass
-        time.sleep(0.05)
-    time.sleep(0.5 * chunk_seconds)
+        time.sleep(0.02)
+    time.sleep(0.25 * sweep.CHUNK * case_seconds)
     proc.send_signal(signal.SIGTERM)
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
