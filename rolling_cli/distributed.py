@@ -17,13 +17,13 @@ import logging
 from .errors import CaseError
 
 
-def solve_chunk_task(chunk, warm: bool, use_cache: bool) -> list:
-    """A cluster task: the records of one chunk, solved with one BLAS thread."""
+def solve_chunk_task(base, chunk, warm: bool, use_cache: bool) -> list:
+    """A cluster task: the records of one chunk (built and solved there), with one BLAS thread."""
     from . import blas
-    from .sweep import solve_chunk
+    from .sweep import solve_items
 
     with blas.single_threaded():
-        return list(solve_chunk(chunk, warm, use_cache))
+        return list(solve_items(base, chunk, warm, use_cache))
 
 
 @contextlib.contextmanager

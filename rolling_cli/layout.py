@@ -29,6 +29,7 @@ This module holds what the writer and the reader share; it does no I/O.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import re
@@ -113,7 +114,7 @@ class Kind:
     name: str
     width: int = 0
 
-    @property
+    @functools.cached_property
     def dtype(self) -> np.dtype:
         if self.name == "str":
             return np.dtype(f"S{self.width}")
@@ -137,13 +138,40 @@ def kind_of(value) -> Kind | None:
     return Kind("str", string_width(len(encode(value))))
 
 
-def array_kind(array: np.ndarray) -> Kind:
-    """The kind of a per-node array: float -> f8, bool -> bool, int8 -> i1 (flags), other ints -> i8."""
-    if array.dtype == np.bool_:
+#: Python types that a numeric kind stores as they are.
+_NUMBERS = (
+    ("bool", {bool, np.bool_}),
+    ("i8", {int, np.int64, np.int32}),
+    ("f8", {float, np.float64, int, np.int64, np.int32}),
+)
+
+
+def column_kind(values: list) -> Kind | None:
+    """The kind that stores every value of a column (None: all missing); one pass over the types."""
+    types = set(map(type, values))
+    types.discard(type(None))
+    if not types:
+        return None
+    if types == {str}:
+        text = [v for v in values if v is not None] if None in values else values
+        return Kind("str", string_width(max(map(len, map(str.encode, text)))))
+    for name, allowed in _NUMBERS:
+        if types <= allowed:
+            return Kind(name)
+    kind = None
+    for value in values:
+        kind = merge(kind, kind_of(value))
+    return kind
+
+
+@functools.lru_cache(maxsize=64)
+def dtype_kind(dtype: np.dtype) -> Kind:
+    """The kind of a per-node array's dtype: float -> f8, bool -> bool, int8 -> i1 (flags), other ints -> i8."""
+    if dtype == np.bool_:
         return Kind("bool")
-    if array.dtype == np.int8:
+    if dtype == np.int8:
         return Kind("i1")
-    if np.issubdtype(array.dtype, np.integer):
+    if np.issubdtype(dtype, np.integer):
         return Kind("i8")
     return Kind("f8")
 

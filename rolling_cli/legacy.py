@@ -15,7 +15,7 @@ import tempfile
 import h5py
 
 from .layout import FORMAT_V1_SWEEP
-from .reader import read_group
+from .reader import plain, read_group
 from .rows import row_from_failure, row_from_result
 from .writer import ResultFile
 
@@ -23,30 +23,24 @@ from .writer import ResultFile
 SWEEP_ATTRS = ("case", "sweep", "sweep_keys", "cases_total", "created", "software_version")
 
 
-def _text(value):
-    return value.decode() if isinstance(value, bytes) else value
-
-
 def convert(source: str, target: str) -> None:
     """Write the format-2 equivalent of the format-1 file ``source`` to ``target``."""
     from .io_hdf5 import root_attributes, write_result
 
     with h5py.File(source, "r") as handle:
-        if _text(handle.attrs.get("format")) != FORMAT_V1_SWEEP:
+        if plain(handle.attrs.get("format")) != FORMAT_V1_SWEEP:
             write_result(read_group(handle), target, command=f"converted from format 1: {source}")
             return
-        keys = tuple(json.loads(_text(handle.attrs["sweep_keys"])))
-        old = {k: _text(handle.attrs[k]) for k in SWEEP_ATTRS if k in handle.attrs}
+        keys = tuple(json.loads(plain(handle.attrs["sweep_keys"])))
+        old = {k: plain(handle.attrs[k]) for k in SWEEP_ATTRS if k in handle.attrs}
         attrs = root_attributes("", old.get("case", ""), f"converted from format 1: {source}", old.get("created"))
         attrs.update({k: v for k, v in old.items() if k != "created"})
         names = sorted(handle["cases"])
         writer = ResultFile(target, attrs, keys, total=len(names))
         for name in names:
             group = handle["cases"][name]
-            coords = {k: _text(group.attrs[k]) for k in keys if k in group.attrs}
-            for k, v in coords.items():
-                coords[k] = v.item() if hasattr(v, "item") else v
-            message = _text(group.attrs.get("message", ""))
+            coords = {k: plain(group.attrs[k]) for k in keys if k in group.attrs}
+            message = plain(group.attrs.get("message", ""))
             seconds = float(group.attrs.get("time", 0.0))
             if "x" in group:
                 row = row_from_result(read_group(group), int(name), coords, time=seconds, message=message)

@@ -23,11 +23,8 @@ STORAGE = ("nodes", "history_rows")
 REFERENCE = ("hertz_pressure", "carter_traction")
 
 
-def _text(value):
-    return value.decode() if isinstance(value, bytes) else value
-
-
-def _scalar(value):
+def plain(value):
+    """An HDF5 attribute or element as a plain Python value (bytes decoded, numpy scalars unwrapped)."""
     if isinstance(value, bytes):
         return value.decode()
     if isinstance(value, np.generic):
@@ -37,7 +34,7 @@ def _scalar(value):
 
 def version(handle) -> int:
     """The format version of an open file: 1 or 2 (ValueError when it is no rollc file)."""
-    fmt = _text(handle.attrs.get("format"))
+    fmt = plain(handle.attrs.get("format"))
     if fmt not in (FORMAT, FORMAT_V1_SWEEP):
         raise ValueError(f"not a rolling_cli file (format = {fmt!r})")
     return int(handle.attrs.get("format_version", 1))
@@ -45,7 +42,7 @@ def version(handle) -> int:
 
 def is_sweep(handle) -> bool:
     """A sweep file (format 2: it records a sweep specification; format 1: its own format name)."""
-    if _text(handle.attrs.get("format")) == FORMAT_V1_SWEEP:
+    if plain(handle.attrs.get("format")) == FORMAT_V1_SWEEP:
         return True
     return version(handle) >= 2 and "sweep" in handle.attrs
 
@@ -59,9 +56,9 @@ def cases_complete(handle) -> int:
 
 def swept_names(handle) -> dict[str, str]:
     """Dotted swept key -> the name of its (case) coordinate, in sweep order."""
-    keys = json.loads(_text(handle.attrs.get("sweep_keys")) or "[]")
+    keys = json.loads(plain(handle.attrs.get("sweep_keys")) or "[]")
     found = {
-        _text(obj.attrs["case_key"]): name
+        plain(obj.attrs["case_key"]): name
         for name, obj in handle.items()
         if isinstance(obj, h5py.Dataset) and "case_key" in obj.attrs
     }
@@ -71,7 +68,7 @@ def swept_names(handle) -> dict[str, str]:
 def _decode(ds, values: np.ndarray) -> np.ndarray:
     if ds.dtype.kind == "S":
         return np.array([v.decode() for v in values], dtype=object)
-    if _text(ds.attrs.get("dtype")) == "bool":
+    if plain(ds.attrs.get("dtype")) == "bool":
         return values.astype(bool)
     return values
 
@@ -91,7 +88,7 @@ def case_table(handle, names=None, start: int = 0, stop: int | None = None) -> d
 
 
 def _dims(ds) -> tuple[str, ...]:
-    return tuple(_text(ds.dims[i].keys()[0]) if ds.dims[i].keys() else "" for i in range(ds.ndim))
+    return tuple(plain(ds.dims[i].keys()[0]) if ds.dims[i].keys() else "" for i in range(ds.ndim))
 
 
 def node_variables(handle) -> list[str]:
@@ -117,11 +114,11 @@ def read_case(handle, row: int = 0) -> Result:
         return read_group(group)
     if not 0 <= row < cases_complete(handle):
         raise IndexError(f"row {row} beyond the {cases_complete(handle)} complete cases")
-    attrs = {k: _scalar(handle.attrs[k]) for k in PROVENANCE if k in handle.attrs}
+    attrs = {k: plain(handle.attrs[k]) for k in PROVENANCE if k in handle.attrs}
     keys = {name: key for key, name in swept_names(handle).items()}
     for name, values in case_table(handle, start=row, stop=row + 1).items():
         if name not in STORAGE and name != "case":
-            attrs[keys.get(name, name)] = _scalar(values[0])
+            attrs[keys.get(name, name)] = plain(values[0])
     count = int(handle["nodes"][row]) if "nodes" in handle else None
     arrays, reference = {}, {}
     fields = {f.name for f in dataclasses.fields(Result)}
@@ -137,7 +134,7 @@ def read_case(handle, row: int = 0) -> Result:
         attributes=attrs,
         history=history,
         reference=reference,
-        case_toml=_text(handle.attrs.get("case", "")),
+        case_toml=plain(handle.attrs.get("case", "")),
     )
     for name, hook in GROUP_HOOKS.items():
         group_name = f"{name}/case_{int(handle['case'][row]):06d}"
@@ -157,20 +154,20 @@ def _history(handle, row: int) -> list[dict]:
         for name, ds in group.items()
         if isinstance(ds, h5py.Dataset) and name not in ("row", "case_index")
     }
-    return [{name: _scalar(values[i]) for name, values in columns.items()} for i in range(count)]
+    return [{name: plain(values[i]) for name, values in columns.items()} for i in range(count)]
 
 
 def read_group(node) -> Result:
     """A result from a format-1 group (a result file's root, or a case group of a format-1 sweep)."""
-    if _text(node.attrs.get("format")) != FORMAT:
+    if plain(node.attrs.get("format")) != FORMAT:
         raise ValueError(f"not a {FORMAT} group (format = {node.attrs.get('format')!r})")
-    attrs = {k: _scalar(v) for k, v in node.attrs.items() if k != "case"}
+    attrs = {k: plain(v) for k, v in node.attrs.items() if k != "case"}
     history = []
     if "convergence" in node:
         conv = node["convergence"]
         cols = {c: conv[c][()] for c in conv}
         n = len(cols.get("residual", []))
-        history = [{c: _scalar(v[i]) for c, v in cols.items()} for i in range(n)]
+        history = [{c: plain(v[i]) for c, v in cols.items()} for i in range(n)]
     reference = {k: v[()] for k, v in node["reference"].items()} if "reference" in node else {}
     return Result(
         x=node["x"][()],
@@ -183,7 +180,7 @@ def read_group(node) -> Result:
         attributes=attrs,
         history=history,
         reference=reference,
-        case_toml=_text(node.attrs.get("case", "")),
+        case_toml=plain(node.attrs.get("case", "")),
     )
 
 

@@ -69,11 +69,10 @@ def row_from_result(result, index: int = 0, coords: dict | None = None, **scalar
     """The row of a solved case (converged or not); ``scalars`` add or replace per-case values."""
     values = {k: v for k, v in result.attributes.items() if k not in PROVENANCE}
     values.update(scalars)
-    arrays = node_arrays(result)
     values["nodes"] = int(result.x.size)
     values["history_rows"] = len(result.history)
     extras = {name: getattr(result, name) for name in GROUP_HOOKS if getattr(result, name, None) is not None}
-    return Row(index, dict(coords or {}), values, arrays, list(result.history), extras, result.units)
+    return Row(index, dict(coords or {}), values, node_arrays(result), result.history, extras, result.units)
 
 
 def row_from_failure(index: int, coords: dict, message: str, seconds: float) -> Row:

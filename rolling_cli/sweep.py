@@ -29,6 +29,7 @@ from __future__ import annotations
 import collections
 import concurrent.futures
 import contextlib
+import functools
 import itertools
 import json
 import os
@@ -42,9 +43,10 @@ import numpy as np
 
 from . import blas, outputs, pipeline
 from . import workers as local_workers
-from .case import Case, case_to_dict, case_to_toml
+from .case import Case, case_to_toml
 from .errors import CaseError, GrossSlidingError, RollingError
 from .io_hdf5 import root_attributes
+from .reader import plain
 from .result import utc_timestamp
 from .rows import row_from_failure, row_from_result
 from .solver.newton import State
@@ -67,21 +69,37 @@ CHUNK = 8
 #: Seconds between two commits of the sweep file (the end of a sweep always commits);
 #: ``ROLLC_FLUSH_SECONDS`` sets it (smaller: less lost to a kill, more commits).
 FLUSH_SECONDS = float(os.environ.get("ROLLC_FLUSH_SECONDS", "1.0"))
-#: The largest share of a sweep's time its commits may take (they are spaced out to keep it).
+#: The largest share of a sweep's time its commits may take (they are spaced out to keep it), the
+#: longest time between two commits, and the most array bytes finished rows may hold before one.
 COMMIT_SHARE = 0.02
+MAX_SECONDS = 10.0
+PENDING_BYTES = 32 << 20
 #: Seconds an interrupted parallel sweep waits for its workers' finished cases.
 STOP_SECONDS = 30.0
 #: Rows of the end-of-sweep table shown at its head and tail (all of them up to twice this).
 TABLE_ROWS = 50
 
 
-def system_key(case: Case) -> str:
+def system_key(case: Case) -> tuple:
     """What a case's contact system depends on: neighbours with equal keys share it."""
-    data = case_to_dict(case)
-    keep = {k: data.get(k) for k in ("bodies", "normal", "rolling", "discretization", "effects")}
-    keep["penalty"] = data.get("solver", {}).get("penalty")
-    keep["frictionless"] = case.friction.mu == 0.0
-    return json.dumps(keep, sort_keys=True, default=str)
+    parts = (case.bodies, case.normal, case.rolling, case.discretization, case.effects)
+    return (*parts, case.solver.penalty, case.friction.mu == 0.0)
+
+
+#: Sections of a case whose keys define the contact system (with solver.penalty and mu = 0 or not).
+SYSTEM_SECTIONS = ("bodies", "normal", "rolling", "discretization", "effects")
+
+
+def combo_key(combo: dict) -> tuple:
+    """:func:`system_key` of a swept case from its swept values alone (the rest is the base case's):
+    equal keys, one contact system. Lets cases be grouped without building them."""
+    key = []
+    for dotted, value in combo.items():
+        if dotted.split(".")[0] in SYSTEM_SECTIONS or dotted == "solver.penalty":
+            key.append((dotted, value))
+        elif dotted == "friction.mu":
+            key.append((dotted, value == 0.0))
+    return tuple(key)
 
 
 def chunks(items: Iterable[tuple[int, dict, Case]]) -> Iterator[list[tuple[int, dict, Case]]]:
@@ -128,32 +146,29 @@ def default_workers() -> int:
     return local_workers.default_count()
 
 
-def _todo(base: Case, spec: SweepSpec, done: np.ndarray) -> Iterator[tuple[int, dict, Any]]:
-    """The cases still to solve, built one at a time; a case that fails to build carries its CaseError."""
-    for index in range(spec.size):
-        if done[index]:
-            continue
-        combo = spec.combination(index)
+def _todo(spec: SweepSpec, done: np.ndarray) -> Iterator[list[tuple[int, dict]]]:
+    """The cases still to solve as chunks of (index, swept values): runs of one contact system
+    (:func:`combo_key`), cut into pieces of at most :data:`CHUNK`; nothing is built here."""
+    items = ((i, spec.combination(i)) for i in range(spec.size) if not done[i])
+    for _, group in itertools.groupby(items, key=lambda item: combo_key(item[1])):
+        while piece := list(itertools.islice(group, CHUNK)):
+            yield piece
+
+
+def solve_items(base: Case, items: list[tuple[int, dict]], warm: bool, use_cache: bool) -> Iterator[Record]:
+    """Build the cases of a chunk and solve them with :func:`solve_chunk`; a case that fails to
+    build (a large sweep validates only its values and corners up front) is a failed record, and
+    the warm-start chain restarts after it. Runs where the chunk runs: in this process, a worker
+    process or a cluster task."""
+    run: list[tuple[int, dict, Case]] = []
+    for index, combo in items:
         try:
-            yield index, combo, build(base, combo)
+            run.append((index, combo, build(base, combo)))
         except CaseError as err:
-            yield index, combo, err
-
-
-def _schedule(items: Iterable) -> Iterator[list]:
-    """:func:`chunks` of the valid cases; a case that failed to build is a chunk of its own."""
-    for failed, group in itertools.groupby(items, key=lambda item: isinstance(item[2], CaseError)):
-        if failed:
-            yield from ([item] for item in group)
-        else:
-            yield from chunks(group)
-
-
-def _unbuildable(chunk: list) -> list[Record] | None:
-    if len(chunk) == 1 and isinstance(chunk[0][2], CaseError):
-        index, values, err = chunk[0]
-        return [Record(index, values, None, str(err), 0.0)]
-    return None
+            yield from solve_chunk(run, warm, use_cache)
+            run = []
+            yield Record(index, combo, None, str(err), 0.0)
+    yield from solve_chunk(run, warm, use_cache)
 
 
 @dataclass
@@ -197,11 +212,10 @@ class SweepReport:
         self.solved_mask[record.index] = True
         self.failed_mask[record.index] = not record.converged
         self.solve_seconds += record.seconds
-        row = _table_row(record, self.keys)
         if len(self.head) < TABLE_ROWS:
-            self.head.append(row)
+            self.head.append(_table_entry(record))
         else:
-            self.tail.append(row)
+            self.tail.append(record)  # the last TABLE_ROWS records, formatted at the end
 
 
 class FileRecords(Mapping):
@@ -238,14 +252,17 @@ class _Sink:
     """Takes finished records: to the writer, the report, the progress.
 
     A commit follows at most every FLUSH_SECONDS, and never sooner than
-    :data:`COMMIT_SHARE` of the time since the last one allows: the writer
-    then costs at most that share of the run, whatever a commit costs here.
+    :data:`COMMIT_SHARE` of the time since the last one allows (the writer
+    then costs at most that share of the run, whatever a commit costs here),
+    but at least every :data:`MAX_SECONDS` and whenever the waiting rows hold
+    :data:`PENDING_BYTES` of arrays (memory stays flat, a kill loses little).
     """
 
     def __init__(self, writer: ResultFile, report: SweepReport, progress) -> None:
         self.writer, self.report, self.progress = writer, report, progress
         self.last = time.monotonic()
         self.interval = FLUSH_SECONDS
+        self.pending_bytes = 0
 
     def add(self, record: Record, notify: bool = True) -> None:
         start = time.perf_counter()
@@ -256,11 +273,13 @@ class _Sink:
             row = row_from_failure(record.index, record.values, record.message, record.seconds)
         self.writer.add(row)
         self.report.note(record)
-        if time.monotonic() - self.last >= self.interval:
+        self.pending_bytes += sum(array.nbytes for array in row.arrays.values())
+        if time.monotonic() - self.last >= self.interval or self.pending_bytes >= PENDING_BYTES:
             begun = time.monotonic()
             self.writer.commit()
             self.last = time.monotonic()
-            self.interval = max(FLUSH_SECONDS, (self.last - begun) / COMMIT_SHARE)
+            self.interval = min(MAX_SECONDS, max(FLUSH_SECONDS, (self.last - begun) / COMMIT_SHARE))
+            self.pending_bytes = 0
         self.report.write_seconds += time.perf_counter() - start
         if notify and self.progress:
             report = self.report
@@ -300,14 +319,14 @@ def run(
         writer, done = _open(base, spec, output, resume, overwrite, warm, command)
         report = SweepReport(output, spec.keys, spec.size, skipped=int(done.sum()))
         sink = _Sink(writer, report, progress)
-        todo = _schedule(_todo(base, spec, done))
+        todo = _todo(spec, done)
         try:
             if executor is not None:
-                _parallel(executor, count, todo, task, warm, use_cache, sink, stop)
+                _parallel(executor, count, todo, functools.partial(task, base), warm, use_cache, sink, stop)
             else:
                 with blas.single_threaded():
                     for chunk in todo:
-                        for record in _unbuildable(chunk) or solve_chunk(chunk, warm, use_cache):
+                        for record in solve_items(base, chunk, warm, use_cache):
                             sink.add(record)
         finally:
             start = time.perf_counter()
@@ -340,8 +359,7 @@ def _open(base, spec, output, resume, overwrite, warm, command) -> tuple[ResultF
     line = f"{utc_timestamp()} {command or 'rolling_cli.sweep.run'}"
     if resume and os.path.exists(output):
         with h5py.File(output, "r") as handle:
-            attrs = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in handle.attrs.items()}
-            attrs = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in attrs.items()}
+            attrs = {k: plain(v) for k, v in handle.attrs.items()}
             why = difference(attrs, case_to_toml(base), spec, warm)
             if why:
                 raise CaseError(
@@ -384,11 +402,7 @@ def _parallel(executor, count: int, todo: Iterator[list], task, warm: bool, use_
                     exhausted = True
                     break
                 seq, chunk = item
-                records = _unbuildable(chunk)
-                if records is not None:
-                    waiting[seq] = records
-                else:
-                    inflight[executor.submit(task, chunk, warm, use_cache)] = seq
+                inflight[executor.submit(task, chunk, warm, use_cache)] = seq
             while next_seq in waiting:
                 records = waiting[next_seq]
                 while records:  # popped before it is added: an exception in add never loses or repeats one
@@ -428,36 +442,43 @@ def _kill_stragglers(executor) -> None:
         executor.shutdown(wait=False, cancel_futures=True)
 
 
-def _table_row(record: Record, keys: tuple[str, ...]) -> list[str]:
-    values = [f"{record.values[k]:.6g}" if isinstance(record.values[k], float) else str(record.values[k]) for k in keys]
-    if record.result is not None:
-        a = record.result.attributes
-        cells = [
-            "yes" if record.converged else "NO",
-            f"{a['q_over_mu_p']:.5f}",
-            f"{a['creep']:.5e}",
-            f"{a['normal_load']:.6g}",
-            f"{a['tangential_load']:.6g}",
-            str(a["iterations"]),
-        ]
+_TABLE_ATTRS = ("q_over_mu_p", "creep", "normal_load", "tangential_load", "iterations")
+
+
+def _table_entry(record: Record) -> tuple:
+    """What the end table shows of a record (formatted only if shown; no arrays kept)."""
+    attrs = record.result.attributes if record.result is not None else None
+    values = tuple(attrs[k] for k in _TABLE_ATTRS) if attrs is not None else None
+    return record.values, record.converged, values, record.message, record.seconds
+
+
+def _table_row(entry: tuple, keys: tuple[str, ...]) -> list[str]:
+    swept, converged, values, message, seconds = entry
+    cells = [f"{swept[k]:.6g}" if isinstance(swept[k], float) else str(swept[k]) for k in keys]
+    if values is not None:
+        q, creep, load, tangential, iterations = values
+        cells += ["yes" if converged else "NO", f"{q:.5f}", f"{creep:.5e}", f"{load:.6g}", f"{tangential:.6g}"]
+        cells.append(str(iterations))
     else:
-        cells = ["NO: " + record.message[:60], "", "", "", "", ""]
-    return [*values, *cells, f"{record.seconds:.3f}"]
+        cells += ["NO: " + message[:60], "", "", "", "", ""]
+    return [*cells, f"{seconds:.3f}"]
 
 
 def summary_table(report: SweepReport, keys: tuple[str, ...]) -> str:
     """The end-of-sweep table: one row per case solved in this run (resumed ones excluded); of a
     long run its first and last :data:`TABLE_ROWS` rows (``rollc export`` writes them all)."""
     head = [*keys, "converged", "Q/(mu P)", "creep", "P", "Q", "iterations", "time [s]"]
-    rows = list(report.head) + list(report.tail)
+    first = [_table_row(entry, keys) for entry in report.head]
+    last = [_table_row(_table_entry(record), keys) for record in report.tail]
+    rows = first + last
     widths = [max(len(str(c)) for c in col) for col in zip(head, *rows, strict=False)]
 
     def line(cells):
         return "  ".join(str(c).rjust(w) for c, w in zip(cells, widths, strict=False))
 
-    lines = [line(head)] + [line(r) for r in report.head]
-    omitted = report.solved - len(report.head) - len(report.tail)
+    lines = [line(head)] + [line(r) for r in first]
+    omitted = report.solved - len(first) - len(last)
     if omitted > 0:
         lines.append(f"  ... {omitted} more rows (rollc export {report.output} writes every row)")
-    lines += [line(r) for r in report.tail]
+    lines += [line(r) for r in last]
     return "\n".join(lines)

@@ -22,14 +22,12 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
 from .case import Case, with_overrides
 from .case.validate import convert_scalar, field_metadata
 from .errors import CaseError
 
 #: Sweeps of up to this many cases have every case built and validated before the first solve.
-VALIDATE_ALL = 10_000
+VALIDATE_ALL = 2_000
 #: Values per range checked one by one before the run (beyond: the end points; ranges are monotone).
 CHECK_VALUES = 100_000
 
@@ -320,8 +318,3 @@ def _first_difference(a: dict, b: dict, prefix: str = "") -> dict:
         elif x != y:
             return {dotted: (x, y)}
     return {}
-
-
-def values_array(values: Sequence) -> np.ndarray:
-    """All values of one key as an array (for tables; a Linspace is computed here)."""
-    return np.array([values[i] for i in range(len(values))])

@@ -65,17 +65,17 @@ def initialize(parent: int) -> None:
     _limits = blas.limit_threads()
 
 
-def solve_chunk_until_stopped(chunk, warm: bool, use_cache: bool) -> list:
-    """The records of ``chunk`` (see :func:`rolling_cli.sweep.solve_chunk`), up to a stop."""
+def solve_chunk_until_stopped(base, chunk, warm: bool, use_cache: bool) -> list:
+    """The records of ``chunk`` (see :func:`rolling_cli.sweep.solve_items`), up to a stop."""
     global _busy
-    from .sweep import solve_chunk
+    from .sweep import solve_items
 
     records: list = []
     if _stopped:
         return records
     _busy = True
     try:
-        for record in solve_chunk(chunk, warm, use_cache):
+        for record in solve_items(base, chunk, warm, use_cache):
             records.append(record)
             if _stopped:
                 break

@@ -20,9 +20,13 @@ the final trim gives every dimension its exact length.
 
 from __future__ import annotations
 
+import contextlib
+import functools
+import itertools
 import json
 import math
 import os
+from dataclasses import dataclass
 
 import h5py
 import numpy as np
@@ -37,14 +41,15 @@ from .layout import (
     SCALARS,
     Kind,
     Var,
-    array_kind,
+    column_kind,
     coordinate_name,
     describe,
+    dtype_kind,
     encode,
-    kind_of,
     merge,
 )
 from .outputs import WriteError
+from .reader import plain
 from .rows import GROUP_HOOKS, Row
 
 #: HDF5 format bounds: the oldest objects that do the job (netCDF-4 reads them), 1.8 features allowed.
@@ -92,12 +97,43 @@ def _slow(kind: Kind, values: list) -> np.ndarray:
     return np.array([fill if v is None else int(v) for v in values], dtype=kind.dtype)
 
 
-def _decode_attr(value):
-    if isinstance(value, bytes):
-        return value.decode()
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
+@dataclass
+class _Batch:
+    """The rows of one commit as columns: what planning and writing both read, gathered once."""
+
+    rows: list[Row]
+    coords: dict[str, list]
+    scalars: dict[str, list]
+    arrays: dict[str, list]
+    history_cases: list[int]
+    history: dict[str, list]
+
+    @classmethod
+    def of(cls, rows: list[Row], keys: tuple[str, ...]) -> _Batch:
+        cases = [r.index for r in rows for _ in r.history]
+        return cls(
+            rows,
+            {k: [r.coords.get(k) for r in rows] for k in keys},
+            _columns([r.scalars for r in rows]),
+            _columns([r.arrays for r in rows]),
+            cases,
+            _columns([e for r in rows for e in r.history]),
+        )
+
+
+def _columns(dicts: list[dict]) -> dict[str, list]:
+    """The values of many dicts as one list per key (None where a dict lacks it), in key order.
+
+    Dicts with the same keys in the same order (the usual rows of a sweep) are transposed in one
+    step; otherwise each key is looked up in each dict.
+    """
+    if not dicts:
+        return {}
+    first = tuple(dicts[0])
+    if all(tuple(d) == first for d in dicts):
+        return dict(zip(first, map(list, zip(*(d.values() for d in dicts), strict=True)), strict=True))
+    names = dict.fromkeys(itertools.chain.from_iterable(dicts))
+    return {n: [d.get(n) for d in dicts] for n in names}
 
 
 class ResultFile:
@@ -116,6 +152,7 @@ class ResultFile:
         self.path = os.fspath(path)
         self.attrs = dict(attrs)
         self.keys = tuple(keys)
+        self._coords = {coordinate_name(k) for k in self.keys}
         self.total = total
         self.replace = replace
         self.schema: dict[str, Var] = {}
@@ -135,7 +172,7 @@ class ResultFile:
     def open(cls, path: str) -> ResultFile:
         """An existing format-2 file, to append to (``--resume``)."""
         with h5py.File(path, "r") as handle:
-            attrs = {k: _decode_attr(v) for k, v in handle.attrs.items()}
+            attrs = {k: plain(v) for k, v in handle.attrs.items()}
             keys = tuple(json.loads(attrs.get("sweep_keys") or "[]"))
             self = cls(path, attrs, keys, attrs.get("cases_total"))
             self.exists = True
@@ -166,7 +203,7 @@ class ResultFile:
             attrs = {k: v for k, v in obj.attrs.items() if k not in _INTERNAL}
             if obj.dtype.kind == "S":
                 kind = Kind("str", obj.dtype.itemsize)
-            elif _decode_attr(attrs.get("dtype")) == "bool":
+            elif plain(attrs.get("dtype")) == "bool":
                 kind = Kind("bool")
             elif obj.dtype == np.int8:
                 kind = Kind("i1")
@@ -184,7 +221,7 @@ class ResultFile:
         units = _units()
         for name, key in (("x", "length"), ("p_n", "stress"), ("normal_load", "force/length")):
             if name in handle and "units" in handle[name].attrs:
-                units[key] = _decode_attr(handle[name].attrs["units"])
+                units[key] = plain(handle[name].attrs["units"])
         return units
 
     # ----------------------------------------------------------------- public
@@ -193,9 +230,8 @@ class ResultFile:
 
         A scalar named like a swept coordinate is stored as ``<name>_result``.
         """
-        coords = {coordinate_name(k) for k in self.keys}
-        if coords.intersection(row.scalars):
-            row.scalars = {(k + "_result" if k in coords else k): v for k, v in row.scalars.items()}
+        if self._coords.intersection(row.scalars):
+            row.scalars = {(k + "_result" if k in self._coords else k): v for k, v in row.scalars.items()}
         self.pending.append(row)
 
     def set_attrs(self, **attrs) -> None:
@@ -208,11 +244,12 @@ class ResultFile:
         rows, self.pending = self.pending, []
         if not rows and not self.restructure and self.exists:
             return
-        plan = self._plan(rows)
+        batch = _Batch.of(rows, self.keys)
+        plan = self._plan(batch)
         if plan is None and not self.restructure and self.exists:
-            self._append(rows)
+            self._append(batch)
         else:
-            self._rebuild(rows, plan or self._same_plan())
+            self._rebuild(batch, plan or self._same_plan())
 
     def close(self) -> None:
         """Commit, then trim every dimension to its exact length (a rebuild when there is slack)."""
@@ -220,7 +257,8 @@ class ResultFile:
         if self.case_cap > self.done or self.hist_cap > self.hist_done:
             plan = self._same_plan()
             plan["case_cap"], plan["hist_cap"] = self.done, self.hist_done
-            self._rebuild([], plan)
+            plan["copied"] = True  # every element is copied: no fill values to write first
+            self._rebuild(_Batch.of([], self.keys), plan)
 
     # ----------------------------------------------------------------- planning
     def _same_plan(self) -> dict:
@@ -235,47 +273,36 @@ class ResultFile:
             "fixed": self.total == 1,
         }
 
-    def _plan(self, rows: list[Row]) -> dict | None:
-        """The structure the rows need, or None when they fit the file as it is."""
+    def _plan(self, batch: _Batch) -> dict | None:
+        """The structure the batch needs, or None when it fits the file as it is."""
+        rows = batch.rows
         schema, history, grid = dict(self.schema), dict(self.history), dict(self.grid)
         node_cap = self.node_cap
         units = next((r.units for r in rows if r.units), None)
         if units and not self.schema:
             self.units = {**self.units, **units}
-        node_meta = _node_meta()
-        for key in self.keys:
-            name = coordinate_name(key)
+        for key, values in batch.coords.items():
             attrs = {"long_name": f"swept case key {key}", "case_key": key}
-            for row in rows:
-                _widen(schema, name, kind_of(row.coords.get(key)), ("case",), attrs)
-        for row in rows:
-            for name, value in row.scalars.items():
-                var = schema.get(name)
-                if var is not None and type(value) in _FAST[var.kind.name]:
-                    continue
-                if not _fits(var, value):
-                    _widen(schema, name, kind_of(value), ("case",), describe(name, SCALARS, self.units))
-            for name, array in row.arrays.items():
-                node_cap = max(node_cap, array.size)
-                dims = ("case", "node")
-                if name in GRID and (name not in schema or schema[name].dims == ("node",)):
-                    shared = grid.setdefault(name, array)
-                    if shared.shape == array.shape and np.array_equal(shared, array):
-                        dims = ("node",)
-                    else:
-                        del grid[name]
-                old = schema.get(name)
-                if old is None or old.dims != dims or old.kind.dtype != array.dtype:
-                    _widen(schema, name, array_kind(array), dims, describe(name, node_meta, self.units))
-            for entry in row.history:
-                for name, value in entry.items():
-                    var = history.get(name)
-                    if var is not None and type(value) in _FAST[var.kind.name]:
-                        continue
-                    if not _fits(var, value):
-                        _widen(history, name, kind_of(value), ("row",), describe(name, HISTORY, self.units))
+            _widen(schema, coordinate_name(key), column_kind(values), ("case",), attrs)
+        for name, values in batch.scalars.items():
+            _widen(schema, name, column_kind(values), ("case",), describe(name, SCALARS, self.units))
+        node_meta = _node_meta()
+        for name, arrays in batch.arrays.items():
+            present = [a for a in arrays if a is not None]
+            node_cap = max(node_cap, *(a.size for a in present))
+            dims = ("case", "node")
+            if name in GRID and (name not in schema or schema[name].dims == ("node",)):
+                shared = grid.setdefault(name, present[0])
+                if all(a.shape == shared.shape and np.array_equal(a, shared) for a in present):
+                    dims = ("node",)
+                else:
+                    del grid[name]
+            kind = functools.reduce(merge, (dtype_kind(dtype) for dtype in {a.dtype for a in present}))
+            _widen(schema, name, kind, dims, describe(name, node_meta, self.units))
+        for name, values in batch.history.items():
+            _widen(history, name, column_kind(values), ("row",), describe(name, HISTORY, self.units))
         need_rows = self.done + len(rows)
-        need_hist = self.hist_done + sum(len(r.history) for r in rows)
+        need_hist = self.hist_done + len(batch.history_cases)
         extras = self.extras | {name for r in rows for name in r.extras}
         same = (
             schema.keys() == self.schema.keys()
@@ -319,11 +346,12 @@ class ResultFile:
         return grown
 
     # ----------------------------------------------------------------- writing
-    def _append(self, rows: list[Row]) -> None:
+    def _append(self, batch: _Batch) -> None:
         """Rows into the space the file already has; ``cases_complete`` last."""
+        rows = batch.rows
         try:
             with h5py.File(self.path, "r+", libver=LIBVER) as handle:
-                self._write_rows(handle, rows, self.schema, self.history, self.node_cap)
+                self._write_rows(handle, batch, self.schema, self.history, self.node_cap)
                 handle.flush()
                 outputs.fsync(self.path)  # the rows are on disk before the counter says so
                 done = self.done + len(rows)
@@ -331,57 +359,53 @@ class ResultFile:
         except (OSError, RuntimeError) as err:
             raise WriteError(self.path, err, fatal=True, note=self._kept()) from None
         self.done += len(rows)
-        self.hist_done += sum(len(r.history) for r in rows)
+        self.hist_done += len(batch.history_cases)
 
     def _kept(self) -> str:
         if self.total == 1 or not self.exists:
             return "nothing was written"
         return f"the {self.done} cases committed before are kept (continue with --resume)"
 
-    def _rebuild(self, rows: list[Row], plan: dict) -> None:
-        """A new file with the planned structure, the committed rows and ``rows``; renamed over the old."""
-        tmp = None
-        try:
-            tmp = outputs.new_temp(self.path)
+    def _rebuild(self, batch: _Batch, plan: dict) -> None:
+        """A new file with the planned structure, the committed rows and the batch; renamed over the old."""
+        rows = batch.rows
+        tmp = outputs.new_temp(self.path)
+        with self._undone(tmp):
             _skeleton(tmp)
             outputs.preallocate(tmp, self._estimate(plan, rows))
-        except OSError as err:
-            outputs.remove_quietly(tmp)
-            raise WriteError(self.path, err, note=self._kept()) from None
-        except BaseException:
-            outputs.remove_quietly(tmp)
-            raise
-        try:
-            with h5py.File(tmp, "r+", libver=LIBVER) as new:
-                self._create(new, plan)
-                if self.exists and self.done:
-                    with h5py.File(self.path, "r") as old:
-                        self._copy(old, new, plan)
-                self._write_rows(new, rows, plan["schema"], plan["history"], plan["node_cap"])
-                self._write_extras(new, rows)
-                new.attrs["cases_complete"] = np.int64(self.done + len(rows))
-        except (OSError, RuntimeError) as err:
-            outputs.remove_quietly(tmp)
-            raise WriteError(self.path, err, fatal=True, note=self._kept()) from None
-        except BaseException:
-            outputs.remove_quietly(tmp)
-            raise
-        try:
+        with self._undone(tmp, fatal=True), h5py.File(tmp, "r+", libver=LIBVER) as new:
+            self._create(new, plan)
+            if self.exists and self.done:
+                with h5py.File(self.path, "r") as old:
+                    self._copy(old, new, plan)
+            self._write_rows(new, batch, plan["schema"], plan["history"], plan["node_cap"])
+            self._write_extras(new, rows)
+            new.attrs["cases_complete"] = np.int64(self.done + len(rows))
+        with self._undone(tmp):
             outputs.fsync(tmp)
             outputs.publish(tmp, self.path, replace=self.exists or self.replace)
-        except OSError as err:
-            outputs.remove_quietly(tmp)
-            raise WriteError(self.path, err, note=self._kept()) from None
-        except BaseException:
-            outputs.remove_quietly(tmp)
-            raise
         self.schema, self.history, self.grid = plan["schema"], plan["history"], plan["grid"]
         self.node_cap, self.case_cap, self.hist_cap = plan["node_cap"], plan["case_cap"], plan["hist_cap"]
         self.extras = plan["extras"]
         self.done += len(rows)
-        self.hist_done += sum(len(r.history) for r in rows)
+        self.hist_done += len(batch.history_cases)
         self.exists = True
         self.restructure = False
+
+    @contextlib.contextmanager
+    def _undone(self, tmp: str, fatal: bool = False):
+        """On any failure in the body remove ``tmp``; an OS error (and, inside HDF5, any error of the
+        library: ``fatal``) becomes a WriteError that says what the file still holds."""
+        try:
+            yield
+        except (OSError, RuntimeError) as err:
+            outputs.remove_quietly(tmp)
+            if isinstance(err, RuntimeError) and not fatal:
+                raise
+            raise WriteError(self.path, err, fatal=fatal, note=self._kept()) from None
+        except BaseException:
+            outputs.remove_quietly(tmp)
+            raise
 
     def _estimate(self, plan: dict, rows: list[Row]) -> int:
         """Bytes the rebuilt file may need (generous: its space is reserved, then trimmed by HDF5)."""
@@ -475,8 +499,9 @@ class ResultFile:
         for name in self.extras:
             old.copy(old[name], new, name=name)
 
-    def _write_rows(self, handle, rows: list[Row], schema: dict, history: dict, node_cap: int) -> None:
-        """The rows' values at rows ``done`` on (and their histories at ``hist_done`` on)."""
+    def _write_rows(self, handle, batch: _Batch, schema: dict, history: dict, node_cap: int) -> None:
+        """The batch's values at rows ``done`` on (and its history rows at ``hist_done`` on)."""
+        rows = batch.rows
         if not rows:
             return
         start = self.done
@@ -486,25 +511,21 @@ class ResultFile:
             if var.dims == ("node",):
                 continue
             if var.dims == ("case",):
-                if name in by_name:
-                    values = [r.coords.get(by_name[name]) for r in rows]
-                else:
-                    values = [r.scalars.get(name) for r in rows]
-                _put(handle, name, start, _values(var.kind, values))
-            else:
+                values = batch.coords[by_name[name]] if name in by_name else batch.scalars.get(name)
+                if values is not None:
+                    _put(handle, name, start, _values(var.kind, values))
+            elif name in batch.arrays:
                 block = np.full((len(rows), node_cap), var.kind.fill, dtype=var.kind.dtype)
-                for i, row in enumerate(rows):
-                    array = row.arrays.get(name)
+                for i, array in enumerate(batch.arrays[name]):
                     if array is not None:
                         block[i, : array.size] = array
                 _put(handle, name, start, block)
-        entries = [(r.index, e) for r in rows for e in r.history]
-        if entries:
+        if batch.history_cases:
             group = handle[CONVERGENCE]
             lo = self.hist_done
-            _put(group, "case_index", lo, np.array([index for index, _ in entries], dtype=np.int64))
-            for name, var in history.items():
-                _put(group, name, lo, _values(var.kind, [e.get(name) for _, e in entries]))
+            _put(group, "case_index", lo, np.array(batch.history_cases, dtype=np.int64))
+            for name, values in batch.history.items():
+                _put(group, name, lo, _values(history[name].kind, values))
 
     def _write_extras(self, handle, rows: list[Row]) -> None:
         for row in rows:
@@ -542,33 +563,6 @@ def _copy_rows(old, new, name: str, n: int, columns: int, dtype=None) -> None:
     for start in range(0, n, step):
         block = _get(old, name, start, min(n, start + step), columns or None)
         _put(new, name, start, block if dtype is None else block.astype(dtype))
-
-
-_PLAIN = {bool: "bool", np.bool_: "bool", int: "i8", float: "f8", np.float64: "f8", np.int64: "i8"}
-#: Python types a kind stores as they are (the planning fast path; None: a missing value).
-_FAST = {
-    "f8": {float, np.float64, int, np.int64, type(None)},
-    "i8": {int, np.int64, type(None)},
-    "bool": {bool, np.bool_, type(None)},
-    "i1": {type(None)},
-    "str": {type(None)},
-}
-
-
-def _fits(var: Var | None, value) -> bool:
-    """Whether ``var`` stores ``value`` as it is (None always fits an existing variable): the fast path
-    of planning, a type lookup per value."""
-    if var is None:
-        return value is None
-    if value is None:
-        return True
-    kind = var.kind.name
-    plain = _PLAIN.get(type(value))
-    if plain is not None:
-        return plain == kind or (kind == "f8" and plain != "bool")
-    if isinstance(value, str) and kind == "str":
-        return len(value) <= var.kind.width and value.isascii() or len(value.encode()) <= var.kind.width
-    return merge(var.kind, kind_of(value)) == var.kind
 
 
 def _widen(table: dict[str, Var], name: str, kind: Kind | None, dims: tuple[str, ...], attrs: dict) -> None:
@@ -622,6 +616,8 @@ def _dataset(group, name: str, var: Var, plan: dict):
     maxshape = tuple(None if d in ("case", "row") else s for d, s in zip(var.dims, shape, strict=True))
     dcpl = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
     dcpl.set_alloc_time(h5py.h5d.ALLOC_TIME_EARLY)
+    if plan.get("copied"):
+        dcpl.set_fill_time(h5py.h5d.FILL_TIME_NEVER)
     ds = group.create_dataset(
         name,
         shape=shape,
