@@ -14,7 +14,7 @@ the N-case study on ``--workers 2`` and on a 2-worker Dask LocalCluster
 (``--scheduler local:2``). Last, an estimate of the 1,000,000-case table on a
 64-worker cluster from the measured per-case costs.
 
-    python benchmarks/bench_sweep.py [--cases 10000] [--elements 50] [--skip-parallel]
+    python benchmarks/bench_sweep.py [--cases 10000] [--elements 200] [--skip-parallel]
 """
 
 from __future__ import annotations
@@ -66,10 +66,23 @@ def run(case: dict, settings: list[str], output: str, workers: int = 1, schedule
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+def whole_process(args: list[str], repeat: int = 3) -> float:
+    """Median wall time of a ``rollc`` command, process start and imports included."""
+    import statistics
+    import time
+
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "rolling_cli", "-q", *args], check=True, cwd=ROOT)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--cases", type=int, default=10_000)
-    parser.add_argument("--elements", type=int, default=50)
+    parser.add_argument("--elements", type=int, default=200, help="contact elements (the shipped Carter case: 200)")
     parser.add_argument("--skip-parallel", action="store_true")
     args = parser.parse_args()
     import tomllib
@@ -98,6 +111,16 @@ def main() -> None:
             f"{r['failed']} |",
             flush=True,
         )
+    carter = str(ROOT / "cases" / "carter.toml")
+    one = whole_process(["solve", carter, "-o", str(tmp / "one.h5"), "--overwrite"])
+    hundred = whole_process(
+        ["sweep", carter, "--set", "friction.mu=0.01:1:100", "-o", str(tmp / "100.h5"), "--workers", "1", "--overwrite"]
+    )
+    print()
+    print(
+        f"Whole process (median of 3): one Carter solve {one:.2f} s, a 100-value friction sweep of it "
+        f"{hundred:.2f} s ({hundred / one:.1f} times one solve)."
+    )
     serial = rows[1][2]
     per_solve = serial["solve"] / serial["cases"]
     per_write = serial["write"] / serial["cases"]

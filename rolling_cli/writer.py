@@ -13,9 +13,10 @@ capacity, a new variable, a longer text, more nodes, cases whose grids
 differ, an extra group, the final trim) rebuilds the file: a new file under a
 temporary name, its space reserved first (so a full disk or a file-size limit
 fails before HDF5 writes, leaving the old file untouched), the committed rows
-copied block by block, then an atomic rename. Capacities grow geometrically,
-so the bytes copied stay proportional to the file (at most about twice), and
-the final trim gives every dimension its exact length.
+copied block by block, then an atomic rename. The first capacity is what fits
+in 256 MB (or the whole sweep, when smaller), then four times more each time,
+so the growth copies at most a third of the final file; the final trim (one
+copy) gives every dimension its exact length.
 """
 
 from __future__ import annotations
@@ -164,6 +165,7 @@ class ResultFile:
         self.case_cap = self.node_cap = self.hist_cap = 0
         self.pending: list[Row] = []
         self.exists = False
+        self.broken = False
         self.restructure = True  # the next commit rebuilds (root attributes changed)
         self.units = _units()
 
@@ -240,20 +242,33 @@ class ResultFile:
         self.restructure = True
 
     def commit(self) -> None:
-        """Write the queued rows: appended in place, or by a rebuild when the structure must change."""
+        """Write the queued rows: appended in place, or by a rebuild when the structure must change.
+
+        Interrupted (Ctrl-C), the rows stay queued for the next commit; after a WriteError the
+        writer writes nothing more (the file keeps what it had).
+        """
         rows, self.pending = self.pending, []
-        if not rows and not self.restructure and self.exists:
+        if self.broken or (not rows and not self.restructure and self.exists):
             return
-        batch = _Batch.of(rows, self.keys)
-        plan = self._plan(batch)
-        if plan is None and not self.restructure and self.exists:
-            self._append(batch)
-        else:
-            self._rebuild(batch, plan or self._same_plan())
+        try:
+            batch = _Batch.of(rows, self.keys)
+            plan = self._plan(batch)
+            if plan is None and not self.restructure and self.exists:
+                self._append(batch)
+            else:
+                self._rebuild(batch, plan or self._same_plan())
+        except WriteError:
+            self.broken = True
+            raise
+        except BaseException:
+            self.pending = rows + self.pending
+            raise
 
     def close(self) -> None:
         """Commit, then trim every dimension to its exact length (a rebuild when there is slack)."""
         self.commit()
+        if self.broken:
+            return
         if self.case_cap > self.done or self.hist_cap > self.hist_done:
             plan = self._same_plan()
             plan["case_cap"], plan["hist_cap"] = self.done, self.hist_done

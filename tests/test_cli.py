@@ -255,7 +255,8 @@ def test_the_plot_never_takes_the_results_path(tmp_path):
     assert not (tmp_path / "r.h5").exists()  # checked before anything was solved or written
 
 
-def test_a_second_writer_of_one_output_is_refused_at_once(tmp_path):
+@pytest.mark.parametrize("command", ["solve", "sweep"])
+def test_a_second_writer_of_one_output_is_refused_at_once(tmp_path, command):
     """Two processes: one holds the output's lock (as a running rollc does); the other stops at once."""
     import subprocess
     import sys
@@ -274,12 +275,13 @@ def test_a_second_writer_of_one_output_is_refused_at_once(tmp_path):
     try:
         assert holder.stdout.readline().strip() == b"locked"
         case = _write(tmp_path, case_dict(**{"discretization.contact_elements": 40}))
+        extra = ["--set", "friction.mu=0.1,0.2"] if command == "sweep" else []
         start = time.perf_counter()
-        result = _run("-q", "solve", case, "-o", out)
+        result = _run("-q", command, case, *extra, "-o", out)
         assert result.exit_code == 2
         assert f"{out}: another rollc process (pid {holder.pid}) is writing it" in result.output
         assert time.perf_counter() - start < 30 and not out.exists()
     finally:
         holder.kill()
         holder.communicate()
-    assert _run("-q", "solve", case, "-o", out).exit_code == 0  # a killed holder released the lock
+    assert _run("-q", command, case, *extra, "-o", out).exit_code == 0  # a killed holder released the lock

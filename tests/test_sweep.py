@@ -125,6 +125,23 @@ def test_workers_give_the_serial_result_exactly(tmp_path):
     _same_sweep(serial, parallel)
 
 
+def test_blas_runs_one_thread_in_a_sweep_and_is_restored_after():
+    """threadpoolctl sets every loaded BLAS to one thread for the body and back after it."""
+    import scipy.linalg  # noqa: F401  (the libraries numpy and scipy load)
+    from threadpoolctl import threadpool_info
+
+    from rolling_cli import blas
+
+    def counts():
+        return {lib["filepath"]: lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"}
+
+    before = counts()
+    assert before
+    with blas.single_threaded():
+        assert set(counts().values()) == {1}
+    assert counts() == before
+
+
 def test_an_existing_output_needs_overwrite_or_resume(tmp_path):
     case = _write(tmp_path, SMALL)
     out = tmp_path / "s.h5"
