@@ -124,23 +124,37 @@ def main() -> None:
     serial = rows[1][2]
     per_solve = serial["solve"] / serial["cases"]
     per_write = serial["write"] / serial["cases"]
-    # the client's own cost per case on a cluster: its wall time beyond the workers' share of the solves
-    if not args.skip_parallel:
-        dask = rows[3][2]
-        per_client = max(0.0, dask["wall"] - dask["solve"] / 2) / dask["cases"]
-    else:
-        per_client = per_write
+    per_transfer = transfer_seconds(case)
+    per_client = per_write + per_transfer
     million, workers = 1_000_000, 64
     solve_hours = million * per_solve / workers / 3600
     client_hours = million * per_client / 3600
     size_gb = million * serial["bytes"] / serial["cases"] / 1e9
     print()
     print(
-        f"Estimate, {million} cases on {workers} workers: solves {solve_hours:.2f} h of wall time "
-        f"({per_solve * 1e3:.2f} ms per case), the client (cases out, records back, the writer: "
-        f"{per_client * 1e3:.2f} ms per case) {client_hours:.2f} h; the run takes the larger, "
-        f"~{max(solve_hours, client_hours):.2f} h, and writes {size_gb:.1f} GB."
+        f"Estimate, {million} cases on {workers} workers: the solves take {solve_hours:.2f} h of wall time "
+        f"({per_solve * 1e3:.2f} ms per case, measured serially); the one client takes {client_hours:.2f} h "
+        f"({per_client * 1e3:.2f} ms per case: the writer {per_write * 1e3:.2f} ms, a record's pickle round "
+        f"trip {per_transfer * 1e3:.2f} ms); the run takes the larger, ~{max(solve_hours, client_hours):.2f} h, "
+        f"and writes {size_gb:.1f} GB."
     )
+
+
+def transfer_seconds(case: dict) -> float:
+    """Seconds per case to serialise a chunk's records on a worker and read them in the client."""
+    import pickle
+    import time
+
+    from rolling_cli import sweep
+    from rolling_cli.case import load_case
+
+    spec = sweep.spec_from_options(study(80), False)
+    items = [(i, spec.combination(i)) for i in range(sweep.CHUNK)]
+    records = list(sweep.solve_items(load_case(case), items, True, True))
+    start = time.perf_counter()
+    for _ in range(20):
+        pickle.loads(pickle.dumps(records))
+    return (time.perf_counter() - start) / 20 / len(records)
 
 
 if __name__ == "__main__":

@@ -116,12 +116,14 @@ class Kind:
 
     @functools.cached_property
     def dtype(self) -> np.dtype:
+        """The HDF5/numpy storage type (bool as int8, text as fixed-width UTF-8 bytes)."""
         if self.name == "str":
             return np.dtype(f"S{self.width}")
         return np.dtype({"bool": "i1"}.get(self.name, self.name))
 
     @property
     def fill(self):
+        """The value of a missing element: NaN, -1 (counts, state), 0 (false), empty text."""
         return {"f8": math.nan, "i8": -1, "i1": STATE_FILL, "bool": 0, "str": b""}[self.name]
 
 

@@ -73,7 +73,7 @@ FLUSH_SECONDS = float(os.environ.get("ROLLC_FLUSH_SECONDS", "1.0"))
 #: longest time between two commits, and the most array bytes finished rows may hold before one.
 COMMIT_SHARE = 0.02
 MAX_SECONDS = 10.0
-PENDING_BYTES = 32 << 20
+PENDING_BYTES = 16 << 20
 #: Seconds an interrupted parallel sweep waits for its workers' finished cases.
 STOP_SECONDS = 30.0
 #: Rows of the end-of-sweep table shown at its head and tail (all of them up to twice this).
@@ -121,6 +121,7 @@ class Record:
 
     @property
     def converged(self) -> bool:
+        """Solved and converged."""
         return self.result is not None and bool(self.result.attributes.get("converged"))
 
 
@@ -209,6 +210,7 @@ class SweepReport:
         return [records[i] for i in records]
 
     def note(self, record: Record) -> None:
+        """Count a finished record (and keep what the end table shows of it)."""
         self.solved_mask[record.index] = True
         self.failed_mask[record.index] = not record.converged
         self.solve_seconds += record.seconds
@@ -265,6 +267,7 @@ class _Sink:
         self.pending_bytes = 0
 
     def add(self, record: Record, notify: bool = True) -> None:
+        """A finished record to the writer (committing when due), the report and the progress."""
         start = time.perf_counter()
         if record.result is not None:
             message = record.message or record.result.attributes.get("message", "")

@@ -241,22 +241,48 @@ def bytes_per_case(base: Case, spec: SweepSpec) -> int:
 
 
 def check_resources(base: Case, spec: SweepSpec, output: str) -> None:
-    """Refuse a sweep whose file cannot fit: twice its estimated size (a rebuild holds two copies)
+    """Refuse a sweep that cannot fit: its bookkeeping (:data:`BYTES_IN_MEMORY` per case) against
+    half the available memory, and twice its file's estimated size (a rebuild holds two copies)
     against the free space of the output's disk. Names the keys and the estimate. The expansion
     itself costs nothing (it is lazy); a disk that fills up later fails the write cleanly."""
     cases = spec.size
     per_case = bytes_per_case(base, spec)
+    counts = ", ".join(f"{k}: {len(v)} values" for k, v in zip(spec.keys, spec.values, strict=True))
+    memory = _available_memory()
+    if memory is not None and BYTES_IN_MEMORY * cases > memory // 2:
+        raise CaseError(
+            f"sweep: {cases} cases ({counts}) need about {_size(BYTES_IN_MEMORY * cases)} of memory to track, "
+            f"more than half the {_size(memory)} available; allowed: fewer values"
+        )
     try:
         free = shutil.disk_usage(os.path.dirname(os.path.abspath(output))).free
     except OSError:
         return
     if 2 * cases * per_case > free:
-        counts = ", ".join(f"{k}: {len(v)} values" for k, v in zip(spec.keys, spec.values, strict=True))
         raise CaseError(
             f"sweep: {cases} cases ({counts}) need about {_size(cases * per_case)} of output "
             f"({_size(per_case)} per case, twice that while the file is rebuilt), but {output} has "
             f"{_size(free)} free on its disk; allowed: fewer values, or an output where they fit"
         )
+
+
+#: Bytes per case a run keeps in memory (which cases are done, solved, failed).
+BYTES_IN_MEMORY = 3
+
+
+def _available_memory() -> int | None:
+    """Bytes of memory available to new allocations (Linux: MemAvailable; elsewhere free pages)."""
+    try:
+        with open("/proc/meminfo") as handle:
+            for line in handle:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError):
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
 
 
 def _size(n: float) -> str:

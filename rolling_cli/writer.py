@@ -64,7 +64,9 @@ CHUNK_ROWS = 1024
 FIRST_ROWS = 256
 PREALLOCATE = 1 << 28
 GROWTH = 4
-#: Rows per block when a rebuild turns a shared grid into a per-case one (bounds its memory).
+#: Bytes per block when a rebuild copies rows, and rows per block when it turns a shared grid into
+#: a per-case one (they bound its memory).
+COPY_BYTES = 1 << 22
 BLOCK_ROWS = 4096
 _INTERNAL = {"DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"}
 
@@ -111,6 +113,7 @@ class _Batch:
 
     @classmethod
     def of(cls, rows: list[Row], keys: tuple[str, ...]) -> _Batch:
+        """Gather the columns of ``rows`` (``keys``: the swept keys, in order)."""
         cases = [r.index for r in rows for _ in r.history]
         return cls(
             rows,
@@ -572,12 +575,13 @@ def _get(group, name: str, start: int, stop: int, columns: int | None = None) ->
 
 
 def _copy_rows(old, new, name: str, n: int, columns: int, dtype=None) -> None:
-    """The first ``n`` rows (and ``columns`` columns) of a dataset of ``old`` into ``new``, ~32 MB at a time."""
+    """The first ``n`` rows (and ``columns`` columns) of a dataset of ``old`` into ``new``, in blocks of
+    :data:`COPY_BYTES` (the memory of a rebuild does not grow with the file)."""
     row_bytes = max(1, columns) * 16
-    step = max(1, (1 << 25) // row_bytes)
+    step = max(1, COPY_BYTES // row_bytes)
     for start in range(0, n, step):
         block = _get(old, name, start, min(n, start + step), columns or None)
-        _put(new, name, start, block if dtype is None else block.astype(dtype))
+        _put(new, name, start, block if dtype is None or block.dtype == dtype else block.astype(dtype))
 
 
 def _widen(table: dict[str, Var], name: str, kind: Kind | None, dims: tuple[str, ...], attrs: dict) -> None:

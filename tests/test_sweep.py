@@ -96,6 +96,9 @@ def test_a_sweep_that_cannot_fit_is_refused_before_anything(tmp_path):
     line = result.output.strip()
     assert "\n" not in line and "friction.mu: 1000000000 values" in line and "per case" in line and "allowed" in line
     assert not out.exists()
+    ranges = ["--set", "friction.mu=0.1:0.9:1000000", "--set", "tangential.creep=-0.001:0.001:1000000"]
+    tracked = _run("sweep", _write(tmp_path, SMALL), *ranges, "-o", out)  # 1e12 cases: 3 TB just to track them
+    assert tracked.exit_code == 2 and "of memory to track" in tracked.output and not out.exists()
 
 
 def test_the_same_set_key_twice_is_one_line(tmp_path):
