@@ -16,14 +16,24 @@ import logging
 
 from .errors import CaseError
 
+_limits = None
+
 
 def solve_chunk_task(base, chunk, warm: bool, use_cache: bool) -> list:
-    """A cluster task: the records of one chunk (built and solved there), with one BLAS thread."""
+    """A cluster task: the records of one chunk (built and solved there), with one BLAS thread.
+
+    The limit is set once per worker process and kept (threadpoolctl's library scan costs ~30 ms).
+    Workers should start with ``OPENBLAS_NUM_THREADS=1``, as dask's nanny starts them by default:
+    an OpenBLAS that started with more threads, limited to one at run time, was measured 10 times
+    slower when called from a thread other than the main one, where dask runs its tasks.
+    """
+    global _limits
     from . import blas
     from .sweep import solve_items
 
-    with blas.single_threaded():
-        return list(solve_items(base, chunk, warm, use_cache))
+    if _limits is None:
+        _limits = blas.limit_threads()
+    return list(solve_items(base, chunk, warm, use_cache))
 
 
 @contextlib.contextmanager

@@ -66,9 +66,19 @@ from .writer import ResultFile
 
 #: Cases per chunk: the unit of warm starting and of work given to a process.
 CHUNK = 8
+
+
 #: Seconds between two commits of the sweep file (the end of a sweep always commits);
 #: ``ROLLC_FLUSH_SECONDS`` sets it (smaller: less lost to a kill, more commits).
-FLUSH_SECONDS = float(os.environ.get("ROLLC_FLUSH_SECONDS", "1.0"))
+def _seconds(text: str | None, default: float) -> float:
+    try:
+        value = float(text) if text is not None else default
+    except ValueError:
+        return default
+    return value if value >= 0.0 else default
+
+
+FLUSH_SECONDS = _seconds(os.environ.get("ROLLC_FLUSH_SECONDS"), 1.0)
 #: The largest share of a sweep's time its commits may take (they are spaced out to keep it), the
 #: longest time between two commits, and the most array bytes finished rows may hold before one.
 COMMIT_SHARE = 0.02
