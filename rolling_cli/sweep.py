@@ -3,9 +3,11 @@
 Stages: a :class:`~rolling_cli.sweep_spec.SweepSpec` (``--set KEY=VALUES``,
 the case's ``[sweep]`` table, ``--curve``) -> checks before any solve (the
 output path, the disk space, the cases: :mod:`rolling_cli.sweep_spec`) ->
-cases built lazily, in sweep order -> chunks of neighbouring cases -> solves
-(serial, local worker processes, or a Dask cluster) -> the single writer
-(:class:`~rolling_cli.writer.ResultFile`), which appends rows to the file.
+the swept values in sweep order, cut into chunks of neighbouring cases that
+define one contact system (nothing built yet) -> each chunk built and solved
+where it runs (:func:`solve_items`: serially, in local worker processes or on
+a Dask cluster) -> the single writer (:class:`~rolling_cli.writer.ResultFile`),
+which appends rows to the file.
 
 Reuse. Neighbouring cases that share geometry, materials and mesh share one
 contact system (influence, slip operator, penalties) and each solve starts
@@ -263,7 +265,12 @@ class FileRecords(Mapping):
 class _Sink:
     """Takes finished records: to the writer, the report, the progress.
 
-    A commit follows at most every FLUSH_SECONDS, and never sooner than
+    Commits happen only when a whole chunk has been added (:meth:`chunk_done`):
+    a killed run then leaves whole chunks, and ``--resume`` starts the next
+    chunk from its first case, on the warm-start path of the uninterrupted run,
+    which it therefore reproduces bit for bit. (Ctrl-C and SIGTERM commit the
+    part of a chunk that is finished too.) A commit follows at most every
+    FLUSH_SECONDS, and never sooner than
     :data:`COMMIT_SHARE` of the time since the last one allows (the writer
     then costs at most that share of the run, whatever a commit costs here),
     but at least every :data:`MAX_SECONDS` and whenever the waiting rows hold
@@ -287,16 +294,20 @@ class _Sink:
         self.writer.add(row)
         self.report.note(record)
         self.pending_bytes += sum(array.nbytes for array in row.arrays.values())
+        self.report.write_seconds += time.perf_counter() - start
+        if notify and self.progress:
+            report = self.report
+            self.progress(report.solved + report.skipped, report.total, int(report.failed_mask.sum()))
+
+    def chunk_done(self) -> None:
+        """A whole chunk has been added: commit if one is due."""
         if time.monotonic() - self.last >= self.interval or self.pending_bytes >= PENDING_BYTES:
             begun = time.monotonic()
             self.writer.commit()
             self.last = time.monotonic()
             self.interval = min(MAX_SECONDS, max(FLUSH_SECONDS, (self.last - begun) / COMMIT_SHARE))
             self.pending_bytes = 0
-        self.report.write_seconds += time.perf_counter() - start
-        if notify and self.progress:
-            report = self.report
-            self.progress(report.solved + report.skipped, report.total, int(report.failed_mask.sum()))
+            self.report.write_seconds += self.last - begun
 
 
 def run(
@@ -341,6 +352,7 @@ def run(
                     for chunk in todo:
                         for record in solve_items(base, chunk, warm, use_cache):
                             sink.add(record)
+                        sink.chunk_done()
         finally:
             start = time.perf_counter()
             writer.close()
@@ -422,6 +434,7 @@ def _parallel(executor, count: int, todo: Iterator[list], task, warm: bool, use_
                     sink.add(records.pop(0))
                 del waiting[next_seq]
                 next_seq += 1
+                sink.chunk_done()
             if not inflight:
                 if exhausted and not waiting:
                     return
@@ -448,9 +461,9 @@ def _parallel(executor, count: int, todo: Iterator[list], task, warm: bool, use_
 
 def _kill_stragglers(executor) -> None:
     """Local workers still running after the stop wait are killed, so the exit is prompt."""
-    for process in list(getattr(executor, "_processes", {}) or {}).copy():
+    for process in list((getattr(executor, "_processes", None) or {}).values()):
         with contextlib.suppress(Exception):
-            executor._processes[process].kill()
+            process.kill()
     with contextlib.suppress(Exception):
         executor.shutdown(wait=False, cancel_futures=True)
 

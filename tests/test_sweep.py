@@ -159,26 +159,32 @@ def test_an_existing_output_needs_overwrite_or_resume(tmp_path):
 
 
 def test_resume_solves_nothing_twice(tmp_path):
+    """Ctrl-C inside a chunk keeps its finished cases; a resume solves only the rest. Interrupted at a
+    chunk's end (where a kill leaves the file), the resumed file is the uninterrupted one bit for bit."""
     base = load_case(SMALL)
-    spec = sweep.spec_from_options(["friction.mu=0.1:0.8:8"], False)
-    out = str(tmp_path / "s.h5")
-
-    def stop_after_three(done, total, failed):
-        if done == 3:
-            raise KeyboardInterrupt
-
-    with pytest.raises(KeyboardInterrupt):
-        sweep.run(base, spec, out, progress=stop_after_three)
-    with h5py.File(out) as f:
-        assert cases_complete(f) == 3 and f["case"].shape == (3,)  # committed and trimmed on the way out
-    rest = sweep.run(base, spec, out, resume=True)
-    assert sorted(rest.records) == [3, 4, 5, 6, 7] and rest.skipped == 3
-    again = sweep.run(base, spec, out, resume=True)
-    assert len(again.records) == 0 and again.skipped == 8
+    spec = sweep.spec_from_options(["friction.mu=0.05:0.8:16"], False)  # two chunks
     whole = str(tmp_path / "whole.h5")
     sweep.run(base, spec, whole)
-    _same_sweep(out, whole)  # in sweep order, bit for bit
-    assert list(_table(out)["case"]) == list(range(8))
+
+    def stop_after(count):
+        def progress(done, total, failed):
+            if done == count:
+                raise KeyboardInterrupt
+
+        return progress
+
+    for stop, name in ((3, "inside.h5"), (sweep.CHUNK, "boundary.h5")):
+        out = str(tmp_path / name)
+        with pytest.raises(KeyboardInterrupt):
+            sweep.run(base, spec, out, progress=stop_after(stop))
+        with h5py.File(out) as f:
+            assert cases_complete(f) == stop and f["case"].shape == (stop,)  # committed, trimmed on the way out
+        rest = sweep.run(base, spec, out, resume=True)
+        assert sorted(rest.records) == list(range(stop, 16)) and rest.skipped == stop
+        again = sweep.run(base, spec, out, resume=True)
+        assert len(again.records) == 0 and again.skipped == 16
+        assert list(_table(out)["case"]) == list(range(16))
+    _same_sweep(str(tmp_path / "boundary.h5"), whole)  # in sweep order, bit for bit
 
 
 @pytest.mark.parametrize(
