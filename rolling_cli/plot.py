@@ -117,8 +117,6 @@ def sweep_figure(handle, show: bool = False) -> Figure:
     step = int(np.ceil(len(rows) / 12)) if len(rows) > 12 else 1  # at most 12 curves stay readable
     results = [read_case(handle, int(row)) for row in rows[::step]]
     labels = [", ".join(f"{k.split('.')[-1]} = {_fmt(table[names[k]][row])}" for k in keys) for row in rows[::step]]
-    summary = {"converged": table.get("converged", np.array([], bool))}
-    summary.update({k: table[k] for k in ("creep", "q_over_mu_p") if k in table})
     curve = any(k in TANGENTIAL_KEYS for k in keys)
     fig = _figure(show, figsize=(12 if curve else 8, 5), layout="constrained")
     ax = fig.add_subplot(1, 2 if curve else 1, 1)
@@ -136,9 +134,9 @@ def sweep_figure(handle, show: bool = False) -> Figure:
     ax.grid(True, alpha=0.3)
     if curve:
         ax2 = fig.add_subplot(1, 2, 2)
-        ok = summary["converged"].astype(bool)
-        order = np.argsort(summary["creep"][ok])
-        ax2.plot(summary["creep"][ok][order], summary["q_over_mu_p"][ok][order], "o-", ms=3)
+        creep, q = table["creep"][rows], table["q_over_mu_p"][rows]
+        order = np.argsort(creep)
+        ax2.plot(creep[order], q[order], "o-", ms=3)
         ax2.set_xlabel(r"creepage $\xi = (V_A - V_B)/|V|$ [-]")
         ax2.set_ylabel(r"$Q/(\mu P)$ [-]")
         ax2.set_title("creep-force curve", fontsize=9)

@@ -20,7 +20,6 @@ from .rows import GROUP_HOOKS
 
 #: Per-case variables that describe the file's storage, not the solve.
 STORAGE = ("nodes", "history_rows")
-REFERENCE = ("hertz_pressure", "carter_traction")
 
 
 def plain(value):
@@ -107,8 +106,10 @@ def node_values(handle, name: str, row: int, count: int | None = None) -> np.nda
     return values if count is None else values[:count]
 
 
-def read_case(handle, row: int = 0) -> Result:
-    """The Result of one row of a format-2 file (a format-1 file: its case group ``row``)."""
+def read_case(handle, row: int = 0, table: dict | None = None) -> Result:
+    """The Result of one row of a format-2 file (a format-1 file: its case group ``row``).
+
+    ``table``: the file's :func:`case_table`, when the caller reads many rows (read once)."""
     if version(handle) == 1:
         group = handle if "x" in handle else handle["cases"][sorted(handle["cases"])[row]]
         return read_group(group)
@@ -116,9 +117,10 @@ def read_case(handle, row: int = 0) -> Result:
         raise IndexError(f"row {row} beyond the {cases_complete(handle)} complete cases")
     attrs = {k: plain(handle.attrs[k]) for k in PROVENANCE if k in handle.attrs}
     keys = {name: key for key, name in swept_names(handle).items()}
-    for name, values in case_table(handle, start=row, stop=row + 1).items():
+    one = table is None
+    for name, values in (case_table(handle, start=row, stop=row + 1) if one else table).items():
         if name not in STORAGE and name != "case":
-            attrs[keys.get(name, name)] = plain(values[0])
+            attrs[keys.get(name, name)] = plain(values[0 if one else row])
     count = int(handle["nodes"][row]) if "nodes" in handle else None
     arrays, reference = {}, {}
     fields = {f.name for f in dataclasses.fields(Result)}

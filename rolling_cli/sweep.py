@@ -246,16 +246,16 @@ class FileRecords(Mapping):
         return iter(np.flatnonzero(self.mask).tolist())
 
     def __getitem__(self, index: int) -> Record:
-        from .reader import cases_complete, read_case
+        from .reader import case_table, read_case
 
         if not (0 <= index < self.mask.size and self.mask[index]):
             raise KeyError(index)
         with h5py.File(self.path, "r") as handle:
             if self._rows is None:
-                cases = handle["case"][: cases_complete(handle)]
-                self._rows = {int(c): r for r, c in enumerate(cases)}
+                self._table = case_table(handle)  # read once for all the records asked for
+                self._rows = {int(c): r for r, c in enumerate(self._table["case"])}
             row = self._rows[index]
-            result = read_case(handle, row)
+            result = read_case(handle, row, self._table)
             solved = int(handle["nodes"][row]) > 0
         attrs = result.attributes
         values = {k: attrs.get(k) for k in self.keys}
