@@ -50,6 +50,7 @@ from .errors import CaseError, GrossSlidingError, RollingError
 from .io_hdf5 import root_attributes
 from .path import CasePath
 from .reader import plain
+from .resources import check_resources as check_memory
 from .result import utc_timestamp
 from .rows import row_from_failure, row_from_result
 from .sweep_spec import (  # noqa: F401  (the sweep API: specifications live in sweep_spec)
@@ -144,7 +145,8 @@ def solve_chunk(chunk: list[tuple[int, dict, Case]], warm: bool, use_cache: bool
     for index, values, case in chunk:
         start_time = time.perf_counter()
         try:
-            if path is None:
+            if path is None:  # one contact system per chunk: its memory is checked before it is built
+                check_memory(case)
                 path = CasePath(pipeline.prepare(case, use_cache)[1], warm, use_cache)
             result = path.solve(case, values)
             yield Record(index, values, result, "", time.perf_counter() - start_time)

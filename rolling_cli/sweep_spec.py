@@ -248,7 +248,9 @@ def check_resources(base: Case, spec: SweepSpec, output: str) -> None:
     cases = spec.size
     per_case = bytes_per_case(base, spec)
     counts = ", ".join(f"{k}: {len(v)} values" for k, v in zip(spec.keys, spec.values, strict=True))
-    memory = _available_memory()
+    from .resources import available_memory
+
+    memory = available_memory()
     if memory is not None and BYTES_IN_MEMORY * cases > memory // 2:
         raise CaseError(
             f"sweep: {cases} cases ({counts}) need about {_size(BYTES_IN_MEMORY * cases)} of memory to track, "
@@ -268,21 +270,6 @@ def check_resources(base: Case, spec: SweepSpec, output: str) -> None:
 
 #: Bytes per case a run keeps in memory (which cases are done, solved, failed).
 BYTES_IN_MEMORY = 3
-
-
-def _available_memory() -> int | None:
-    """Bytes of memory available to new allocations (Linux: MemAvailable; elsewhere free pages)."""
-    try:
-        with open("/proc/meminfo") as handle:
-            for line in handle:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError):
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        return None
 
 
 def _size(n: float) -> str:
