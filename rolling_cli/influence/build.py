@@ -97,22 +97,25 @@ def clear_memo() -> None:
     _prepared.cache_clear()
 
 
-def _prepare(inputs: dict) -> tuple[bem.Condensed, ContactGrid]:
+def _mesh(inputs: dict) -> tuple[bem.BoundaryMesh, ContactGrid]:
     grid = ContactGrid(inputs["zone_half_width"], inputs["elements"], 2)
     layer = inputs["kind"] == "layered"
     largest = inputs["depth"] if layer else None
     mesh = bem.body_mesh(grid, inputs["half_width"], inputs["depth"], largest=largest, far_field=not layer)
     log.info("BEM %s: %d elements, %d nodes", inputs["kind"], mesh.elements, mesh.size)
-    return bem.prepare_body(mesh, grid, inputs["young"], inputs["poisson"]), grid
+    return mesh, grid
 
 
 def _compute_bem(inputs: dict) -> Compliance:
-    return bem.compliance(*_prepare(inputs), consume=True)
+    mesh, grid = _mesh(inputs)
+    return bem.condensed(mesh, grid, inputs["young"], inputs["poisson"])
 
 
 @functools.lru_cache(maxsize=2)
 def _prepared(frozen: tuple) -> bem.Condensed:
-    return _prepare(dict(frozen))[0]
+    inputs = dict(frozen)
+    mesh, grid = _mesh(inputs)
+    return bem.prepare_body(mesh, grid, inputs["young"], inputs["poisson"])
 
 
 def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarray) -> tuple:
