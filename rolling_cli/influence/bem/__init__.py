@@ -30,7 +30,8 @@ from .. import Compliance
 from .condense import Condensed, boundary_values, contact_blocks, factorise, prepare, solve
 from .farfield import far_field_values
 from .mesh import BoundaryMesh, rectangle
-from .system import mixed_system
+from .symmetry import reductions
+from .system import mixed_systems
 
 __all__ = ["BoundaryMesh", "Condensed", "body_mesh", "prepare_body", "condensed", "boundary_solution"]
 
@@ -48,7 +49,7 @@ def body_mesh(
     return rectangle(half_width, depth, grid.edges, largest=largest, far_field=far_field)
 
 
-def _system(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, far_values):
+def _systems(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, far_values, mirror: bool):
     nc = grid.size
     if mesh.contact.size != nc or not np.allclose(mesh.nodes[mesh.contact, 0], grid.x, atol=1e-9 * grid.half_width):
         raise ValueError("the BEM contact nodes do not match the contact grid")
@@ -56,34 +57,49 @@ def _system(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float,
         depth = -float(mesh.geometry[..., 1].min())
         far_values = far_field_values(mesh, young, poisson, depth)
     shear = young / (2.0 * (1.0 + poisson))
-    return mixed_system(mesh, shear, poisson, far_values), far_values
+    parts = reductions(mesh, far_values, grid.weights, mirror)
+    return parts, mixed_systems(mesh, shear, poisson, far_values, parts), far_values
 
 
 def prepare_body(
-    mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, far_values: np.ndarray | None = None
+    mesh: BoundaryMesh,
+    grid: ContactGrid,
+    young: float,
+    poisson: float,
+    far_values: np.ndarray | None = None,
+    mirror: bool = True,
 ) -> Condensed:
     """Assemble and factorise a BEM body ([length], E [stress]) for boundary solutions.
 
     ``far_values`` (2N, 2) the prescribed values on ``mesh.far`` per unit
     resultant force; default the half-space's (:func:`.farfield.far_field_values`,
-    approach measured from (0, -D), D the mesh's depth).
+    approach measured from (0, -D), D the mesh's depth). ``mirror``: split a
+    mirror-symmetric body into its two halves (:mod:`.symmetry`; the same
+    answer to round-off, a quarter of the work).
     """
-    system, far_values = _system(mesh, grid, young, poisson, far_values)
-    return prepare(mesh, system, grid.weights, far_values)
+    parts, systems, far_values = _systems(mesh, grid, young, poisson, far_values, mirror)
+    return prepare(mesh, parts, systems, grid.weights, far_values)
 
 
 def condensed(
-    mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, far_values: np.ndarray | None = None
+    mesh: BoundaryMesh,
+    grid: ContactGrid,
+    young: float,
+    poisson: float,
+    far_values: np.ndarray | None = None,
+    mirror: bool = True,
 ) -> Compliance:
-    """Condensed compliance of a BEM body on the contact grid [length/stress] (``far_values`` as
-    :func:`prepare_body`). One system, factorised and solved in place and released before the
-    blocks are copied out: the peak is A plus its right-hand sides."""
-    system, _ = _system(mesh, grid, young, poisson, far_values)
-    matrix, rhs = system.matrix, system.rhs
-    del system
-    solution = solve(factorise(matrix), rhs, overwrite=True)
-    del matrix, rhs  # the LU
-    return Compliance(x=grid.x, weights=grid.weights, definite_normal=True, **contact_blocks(solution, grid.weights))
+    """Condensed compliance of a BEM body on the contact grid [length/stress] (``far_values`` and
+    ``mirror`` as :func:`prepare_body`). Each system is factorised and solved in place, and the
+    LUs are released before the blocks are formed: the peak is the systems' A and R."""
+    parts, systems, _ = _systems(mesh, grid, young, poisson, far_values, mirror)
+    solutions = []
+    while systems:
+        system = systems.pop(0)
+        solutions.append(solve(factorise(system.matrix), system.rhs, overwrite=True))
+        del system  # its LU
+    blocks = contact_blocks(solutions, parts, mesh, grid.weights)
+    return Compliance(x=grid.x, weights=grid.weights, definite_normal=True, **blocks)
 
 
 def boundary_solution(body: Condensed, p_n: np.ndarray, p_t: np.ndarray) -> tuple[BoundaryMesh, np.ndarray, np.ndarray]:

@@ -42,22 +42,24 @@ GRADING = 0.5
 #: A node closer to an element's line than this fraction of the element's length lies on it.
 ON_LINE = 1e-9
 #: Quadrature points per vectorised chunk of the regular and nearly singular rules (bounds memory).
-_CHUNK = 200_000
+_CHUNK = 50_000
 #: Doubles of one element block's H and G integrals together (bounds memory).
-BLOCK = 4_000_000
+BLOCK = 1_000_000
 
 
 @dataclass(frozen=True)
 class Geometry:
     """Per-element data shared by every block: straight elements (E,) with start ``p0`` (E, 2),
-    unit ``tangent`` (E, 2), ``half``-length J [length], shape-function ``coeff`` (E, 3, 3);
-    the regular rule's ``points`` and ``normals`` (E, GAUSS, 2) and weighted shapes
-    ``weighted`` (E, GAUSS, 3) = w_g J N_j(xi_g) [length]."""
+    unit ``tangent`` (E, 2), ``half``-length J [length], shape-function ``coeff`` (E, 3, 3), the
+    ``line`` (E,) each lies on (a number per straight line and direction); the regular rule's
+    ``points`` and ``normals`` (E, GAUSS, 2) and weighted shapes ``weighted`` (E, GAUSS, 3) =
+    w_g J N_j(xi_g) [length]."""
 
     p0: np.ndarray
     tangent: np.ndarray
     half: np.ndarray
     coeff: np.ndarray
+    line: np.ndarray
     points: np.ndarray
     normals: np.ndarray
     weighted: np.ndarray
@@ -74,24 +76,33 @@ def geometry(mesh: BoundaryMesh) -> Geometry:
     xg, wg = gauss(GAUSS)  # an even order: no Gauss point sits on a node
     points, normals, jac = map_points(mesh.geometry, xg)
     weighted = (wg[None, :] * jac)[..., None] * evaluate(coeff, np.broadcast_to(xg, jac.shape))
-    return Geometry(p0, chord / length[:, None], 0.5 * length, coeff, points, normals, weighted)
+    tangent = chord / length[:, None]
+    size = float(np.abs(mesh.nodes).max())
+    offset = (p0[:, 0] * tangent[:, 1] - p0[:, 1] * tangent[:, 0]) / size  # the line's signed distance from 0
+    _, line = np.unique(np.round(np.column_stack([tangent, offset]), 9), axis=0, return_inverse=True)
+    return Geometry(p0, tangent, 0.5 * length, coeff, line.ravel(), points, normals, weighted)
 
 
 def element_blocks(
-    mesh: BoundaryMesh, shear: float, poisson: float, block: int = BLOCK
+    mesh: BoundaryMesh, shear: float, poisson: float, points: np.ndarray | None = None
 ) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Yield ``(elements, h, g)``: element numbers (e,) and their integrals, each (e, 3, 2, N, 2).
+    """Yield ``(elements, h, g)``: element numbers (e,) and their integrals, each (e, 3, 2, P, 2).
 
-    h[q, j, l, i, k] = int T_kl N_j over element ``elements[q]`` for collocation
-    node i (zero for the own-node term), likewise g with U_kl [length/stress
-    times length]: a node's column (j, l) of H is contiguous. ``shear`` G
-    [stress], ``poisson`` nu.
+    h[q, j, l, p, k] = int T_kl N_j over element ``elements[q]`` for collocation
+    node ``points[p]`` (default every node; zero for the own-node term),
+    likewise g with U_kl [length/stress times length]: a node's column (j, l)
+    of H is contiguous. ``shear`` G [stress], ``poisson`` nu. h and g are views
+    of two buffers reused by the next block: use them before asking for it.
     """
     geo = geometry(mesh)
-    step = max(1, block // (24 * mesh.size))  # 12 doubles of H and 12 of G per node-element pair
+    points = np.arange(mesh.size) if points is None else np.asarray(points)
+    step = max(1, BLOCK // (24 * points.size))  # 12 doubles of H and 12 of G per node-element pair
+    buffers = np.empty((2, min(step, mesh.elements), 3, 2, points.size, 2))
     for start in range(0, mesh.elements, step):
         elements = np.arange(start, min(mesh.elements, start + step))
-        yield (elements, *_block(mesh, geo, elements, shear, poisson))
+        h, g = buffers[0, : elements.size], buffers[1, : elements.size]
+        _block(mesh, geo, points, elements, shear, poisson, h, g)
+        yield elements, h, g
 
 
 def assemble(mesh: BoundaryMesh, shear: float, poisson: float) -> tuple[np.ndarray, np.ndarray]:
@@ -114,53 +125,79 @@ def assemble(mesh: BoundaryMesh, shear: float, poisson: float) -> tuple[np.ndarr
     return H_t.reshape(2 * n, 2 * n).T, G_t.reshape(2 * n, 2 * n).T
 
 
-def classify(mesh: BoundaryMesh, geo: Geometry, elements: np.ndarray):
-    """Pairs of collocation nodes and ``elements`` by kind, each with local element numbers q.
+def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np.ndarray):
+    """The pairs of collocation nodes ``points`` and ``elements`` by kind, both numbered locally (p, q).
 
-    Returns ``collinear`` (i, q, c, own): the local coordinate c of node i on
-    the element's line and its position among the element's nodes (-1: none);
-    ``near`` (i, q, t, dist): the nearest point's fraction t along the element
-    and the distance [length]; ``regular`` (i, q).
+    Returns ``collinear``: per line among the elements, (q (e,), its points p
+    (n,), c (e, n), own (e, n)): every point on that line against every element
+    on it, with the point's local coordinate c on the element's line and its
+    position among the element's nodes (-1: none); ``near`` (p, q, t, dist):
+    the nearest point's fraction t along the element and the distance
+    [length]; ``regular`` (p, q).
     """
     p0, tangent, half = geo.p0[elements], geo.tangent[elements], geo.half[elements]
-    rel = mesh.nodes[:, None, :] - p0[None]  # (N, e, 2)
+    rel = mesh.nodes[points][:, None, :] - p0[None]  # (P, e, 2)
     along = np.einsum("ned,ed->ne", rel, tangent)
     across = rel[..., 1] * tangent[None, :, 0] - rel[..., 0] * tangent[None, :, 1]
     length = 2.0 * half[None, :]
     on_line = np.abs(across) <= ON_LINE * length
+    position = np.full(mesh.size, -1)
+    position[points] = np.arange(points.size)
     member = np.full(on_line.shape, -1)
     q = np.arange(elements.size)
     for a in range(3):
-        member[mesh.connectivity[elements, a], q] = a
-    i, qc = np.nonzero(on_line)
-    own = member[i, qc]
-    c = along[i, qc] / half[qc] - 1.0
-    c = np.where(own >= 0, mesh.local[elements[qc], np.maximum(own, 0)], c)
+        p = position[mesh.connectivity[elements, a]]
+        member[p[p >= 0], q[p >= 0]] = a
+    collinear = []
+    lines = geo.line[elements]
+    for line in np.unique(lines):
+        qs = np.flatnonzero(lines == line)
+        nodes = np.flatnonzero(on_line[:, qs[0]])
+        if not on_line[nodes][:, qs].all() or np.count_nonzero(on_line[:, qs]) != nodes.size * qs.size:
+            raise ValueError("elements of one line see different nodes on it")
+        own = member[nodes][:, qs].T
+        c = along[nodes][:, qs].T / half[qs, None] - 1.0
+        inside = own >= 0
+        c[inside] = mesh.local[elements[qs, None], np.maximum(own, 0)][inside]
+        collinear.append((qs, nodes, c, own))
     t = np.clip(along / length, 0.0, 1.0)
     dist = np.hypot(along - t * length, across)
     near = ~on_line & (dist < NEAR * length)
     i_near, q_near = np.nonzero(near)
     i_reg, q_reg = np.nonzero(~on_line & ~near)
-    return (i, qc, c, own), (i_near, q_near, t[near], dist[near]), (i_reg, q_reg)
+    return collinear, (i_near, q_near, t[near], dist[near]), (i_reg, q_reg)
 
 
-def _block(mesh, geo, elements, shear, poisson):
-    """The integrals of ``elements`` (:func:`element_blocks`); every pair is of exactly one kind."""
-    collinear_pairs, near, regular = classify(mesh, geo, elements)
-    h = np.empty((elements.size, 3, 2, mesh.size, 2))
-    g = np.empty_like(h)
-    i, q, c, own = collinear_pairs
-    e = elements[q]
-    values = collinear.integrals(c, geo.coeff[e], geo.half[e], geo.tangent[e], own, shear, poisson)
-    _put(h, g, q, i, values)
+def _block(mesh, geo, points, elements, shear, poisson, h, g) -> None:
+    """The integrals of ``elements`` into h and g (:func:`element_blocks`); every pair is of exactly one kind."""
+    collinear_runs, near, regular = classify(mesh, geo, points, elements)
+    for qs, nodes, c, own in collinear_runs:
+        e = elements[qs]
+        rows, columns = _span(qs), _span(nodes)
+        if isinstance(rows, slice) and isinstance(columns, slice):  # written in place
+            out = (h[rows, :, :, columns], g[rows, :, :, columns])
+            collinear.integrals(c, own, geo.coeff[e], geo.half[e], geo.tangent[e], shear, poisson, out)
+            continue
+        values = collinear.integrals(c, own, geo.coeff[e], geo.half[e], geo.tangent[e], shear, poisson)
+        if isinstance(rows, slice) or isinstance(columns, slice):
+            h[rows, :, :, columns], g[rows, :, :, columns] = values
+        else:  # neither is a contiguous range: one element at a time
+            for k, q in enumerate(qs):
+                h[q, :, :, nodes], g[q, :, :, nodes] = (v[k].transpose(2, 0, 1, 3) for v in values)
     i, q, t, dist = near
     if i.size:
-        values = near_integrals(mesh, geo, np.column_stack([i, elements[q]]), t, dist, shear, poisson)
+        values = near_integrals(mesh, geo, np.column_stack([points[i], elements[q]]), t, dist, shear, poisson)
         _put(h, g, q, i, [v.swapaxes(-1, -2) for v in values])
     i, q = regular
-    values = regular_integrals(mesh, geo, i, elements[q], shear, poisson)
+    values = regular_integrals(mesh, geo, points[i], elements[q], shear, poisson)
     _put(h, g, q, i, [v.swapaxes(-1, -2) for v in values])
-    return h, g
+
+
+def _span(index: np.ndarray):
+    """A slice for a contiguous increasing index array, else the array."""
+    if index.size and index[-1] - index[0] == index.size - 1 and np.all(np.diff(index) == 1):
+        return slice(int(index[0]), int(index[-1]) + 1)
+    return index
 
 
 def _put(h, g, q, i, values) -> None:

@@ -103,46 +103,50 @@ def line_moments(c: np.ndarray, on_element: np.ndarray) -> tuple[np.ndarray, np.
 
 def integrals(
     c: np.ndarray,
+    own: np.ndarray,
     coeff: np.ndarray,
     half: np.ndarray,
     tangent: np.ndarray,
-    own: np.ndarray,
     shear: float,
     poisson: float,
+    out: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """H and G element integrals of collinear pairs, each (P, 3, 2, 2): [pair, node j, l, k].
+    """H and G integrals of e elements on one line against n points on it, each (e, 3, 2, n, 2).
 
-    ``c`` (P,) the point's local coordinate on the element's line (exactly the
-    node's local coordinate for the element's own nodes); ``coeff`` (P, 3, 3)
-    the element's shape-function coefficients; ``half`` (P,) its half-length J
-    [length]; ``tangent`` (P, 2) its unit tangent; ``own`` (P,) the point's
-    position among the element's nodes, -1 when it is not one of them;
-    ``shear`` G [stress]. H is dimensionless, G in [length/stress] times length.
+    ``c`` (e, n) each point's local coordinate on each element's line (exactly
+    the node's local coordinate for the element's own nodes); ``own`` (e, n)
+    the point's position among the element's nodes, -1 when it is not one of
+    them; per element ``coeff`` (e, 3, 3) the shape-function coefficients,
+    ``half`` (e,) the half-length J [length] and ``tangent`` (e, 2) the unit
+    tangent; ``shear`` G [stress]. Layout [element, node j, l, point, k] (that
+    of :func:`.assembly.element_blocks`); H is dimensionless, G in
+    [length/stress] times length. ``out``: two arrays of that shape to write
+    them into (returned).
     """
     member = own >= 0
     if np.any(~member & (np.abs(np.abs(c) - 1.0) < 1e-9)):
         raise ValueError("a collocation point sits on the end of an element it does not belong to")
-    mu = coeff @ _MOMENTS  # (P, 3)
-    L, K = line_moments(c, member)
-    lam = np.einsum("pjm,pm->pj", coeff, L)
-    kappa = np.einsum("pjm,pm->pj", coeff, K)
+    L, K = line_moments(c.ravel(), member.ravel())
+    lam = np.einsum("ejm,enm->ejn", coeff, L.reshape(c.shape + (3,)))  # (e, 3, n)
+    kappa = np.einsum("ejm,enm->ejn", coeff, K.reshape(c.shape + (3,)))
     # on the element (its own nodes) N_j(c) = delta_ja: kappa_j is the polynomial part 2 (A_1 + A_2 c)
-    inside = np.flatnonzero(member)
-    kappa[inside] = 2.0 * (coeff[inside, :, 1] + coeff[inside, :, 2] * c[inside, None])
-    kappa[inside, own[inside]] = 0.0  # the own node's term: the rigid-body diagonal
-    # values[p, j, l, k] (the layout of :func:`.assembly.element_blocks`): G = A delta_kl + B t_k t_l,
-    # H = kappa (t_k n_l - t_l n_k) with n = (t_y, -t_x), i.e. -kappa for (k, l) = (0, 1), +kappa for (1, 0)
+    e, n = np.nonzero(member)
+    kappa[e, :, n] = 2.0 * (coeff[e, :, 1] + coeff[e, :, 2] * c[e, n, None])
+    kappa[e, own[e, n], n] = 0.0  # the own node's term: the rigid-body diagonal
+    # G = A delta_kl + B t_k t_l; H = kappa (t_k n_l - t_l n_k) with n = (t_y, -t_x): -kappa at (k, l) = (0, 1)
     cu = 1.0 / (8.0 * np.pi * shear * (1.0 - poisson))
-    scale = (cu * half)[:, None]
-    isotropic = scale * (3.0 - 4.0 * poisson) * (-np.log(half)[:, None] * mu - lam)  # (P, 3)
-    along = scale * mu
-    g = np.empty(c.shape + (3, 2, 2))
-    g[:, :, 0, 0] = isotropic + along * (tangent[:, 0] ** 2)[:, None]
-    g[:, :, 1, 1] = isotropic + along * (tangent[:, 1] ** 2)[:, None]
-    g[:, :, 0, 1] = along * (tangent[:, 0] * tangent[:, 1])[:, None]
-    g[:, :, 1, 0] = g[:, :, 0, 1]
-    h = np.zeros(c.shape + (3, 2, 2))
+    mu = coeff @ _MOMENTS  # (e, 3)
+    scale = (cu * half)[:, None, None]
+    isotropic = scale * (3.0 - 4.0 * poisson) * ((-np.log(half)[:, None] * mu)[:, :, None] - lam)  # (e, 3, n)
+    along = scale * mu[:, :, None]  # (e, 3, 1)
+    h, g = out if out is not None else (np.empty(kappa.shape[:2] + (2,) + kappa.shape[2:] + (2,)) for _ in range(2))
+    g[:, :, 0, :, 0] = isotropic + along * (tangent[:, 0] ** 2)[:, None, None]
+    g[:, :, 1, :, 1] = isotropic + along * (tangent[:, 1] ** 2)[:, None, None]
+    g[:, :, 0, :, 1] = along * (tangent[:, 0] * tangent[:, 1])[:, None, None]
+    g[:, :, 1, :, 0] = g[:, :, 0, :, 1]
     kappa *= (1.0 - 2.0 * poisson) / (4.0 * np.pi * (1.0 - poisson))
-    h[:, :, 1, 0] = -kappa  # l = 1, k = 0
-    h[:, :, 0, 1] = kappa
+    h[:, :, 0, :, 0] = 0.0
+    h[:, :, 1, :, 1] = 0.0
+    h[:, :, 1, :, 0] = -kappa  # l = 1, k = 0
+    h[:, :, 0, :, 1] = kappa
     return h, g

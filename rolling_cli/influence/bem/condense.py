@@ -16,9 +16,11 @@ displacements are then linear in t_c, and all 2 n_c unit load cases plus the
     C = (A^-1 B E_c)_c + (A^-1 B V)_c W.
 
 :mod:`.system` assembles A and R = [B E_c | B V] directly, column-major, with
-the contact unknowns first; here A is factorised in place (LAPACK getrf), the
-2 n_c + 2 right-hand sides are solved in place (getrs), and the first 2 n_c
-rows of the solution give C. One LU, no copies of the (2N, 2N) matrix.
+the contact unknowns first, for each reduction of :mod:`.symmetry` (the whole
+system, or the two mirror halves of a symmetric body); here each A is
+factorised in place (LAPACK getrf), its right-hand sides are solved in place
+(getrs), and the first rows of the solutions give C. One LU per reduction, no
+copies of A.
 """
 
 from __future__ import annotations
@@ -29,10 +31,10 @@ import numpy as np
 from scipy.linalg import lapack
 
 from .mesh import BoundaryMesh
-from .system import MixedSystem
+from .symmetry import Reduction
 
 #: Rows of a compliance block updated at once by the far field's rank-one terms (bounds a temporary).
-_ROWS = 1024
+_ROWS = 256
 
 
 def boundary_system(mesh: BoundaryMesh, H: np.ndarray, G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -62,26 +64,49 @@ def solve(factors: tuple[np.ndarray, np.ndarray], rhs: np.ndarray, overwrite: bo
     return x
 
 
-def contact_blocks(solution: np.ndarray, weights: np.ndarray) -> dict[str, np.ndarray]:
+def contact_blocks(
+    solutions: list[np.ndarray], parts: list[Reduction], mesh: BoundaryMesh, weights: np.ndarray
+) -> dict[str, np.ndarray]:
     """The body's compliance blocks from the solved right-hand sides [length/stress], each (n_c, n_c).
 
-    ``solution`` = A^-1 R (:mod:`.system` order): rows u_x, u_y at the contact
-    nodes, columns t_x, t_y, F_x, F_y; ``weights`` (n_c,) [length] the
-    contact quadrature weights (F = sum_j w_j t_j). In the body's frame the
-    displacement into the body is -u_y, p_n = t_y and p_t = t_x:
-    S_tt = du_x/dt_x, S_tn = du_x/dt_y, S_nt = -du_y/dt_x, S_nn = -du_y/dt_y,
-    each plus its far-field term (du/dF) w. C-contiguous copies.
+    ``solutions[r]`` = A^-1 R of reduction ``parts[r]`` (:mod:`.system`):
+    rows its unknowns (contact displacement parameters first), columns its
+    contact parameters' unit loads, then its far-field forces; ``weights``
+    (n_c,) [length] the contact quadrature weights (F = sum_j w_j t_j). The
+    far field's terms are added into the solutions (in place). In the body's
+    frame the displacement into the body is -u_y, p_n = t_y and p_t = t_x:
+    S_tt = du_x/dt_x, S_tn = du_x/dt_y, S_nt = -du_y/dt_x, S_nn = -du_y/dt_y.
+    C-contiguous arrays.
     """
-    nc = weights.size
+    contact = mesh.contact
+    nc = contact.size
+    responses = []
+    for solution, part in zip(solutions, parts, strict=True):
+        m = part.contact
+        response = solution[:m, :m]
+        for column, axis in enumerate(part.forces):  # + (du/dF) F of each parameter's unit load
+            valid = part.unknown[contact, axis] >= 0
+            loaded = contact[valid]
+            load = weights[valid] * part.sign[loaded, axis]
+            resultant = np.bincount(part.unknown[loaded, axis], weights=load, minlength=m)
+            far = solution[:m, m + column]
+            for start in range(0, m, _ROWS):
+                response[:, start : start + _ROWS] += np.outer(far, resultant[start : start + _ROWS])
+        responses.append(response)
     out = {}
-    blocks = (("S_tt", 0, 0, 1.0), ("S_tn", 0, 1, 1.0), ("S_nt", 1, 0, -1.0), ("S_nn", 1, 1, -1.0))
-    for name, rows, column, sign in blocks:
-        block = np.array(solution[rows * nc : (rows + 1) * nc, column * nc : (column + 1) * nc], order="C")
-        far = solution[rows * nc : (rows + 1) * nc, 2 * nc + column]
-        for start in range(0, nc, _ROWS):
-            block[start : start + _ROWS] += np.outer(far[start : start + _ROWS], weights)
-        if sign < 0:
-            np.negative(block, out=block)
+    for name, k, l, sign in (("S_tt", 0, 0, 1.0), ("S_tn", 0, 1, 1.0), ("S_nt", 1, 0, -1.0), ("S_nn", 1, 1, -1.0)):
+        block = np.zeros((nc, nc))
+        for response, part in zip(responses, parts, strict=True):
+            rows = np.maximum(part.unknown[contact, k], 0)  # the factor is 0 where a half has no parameter
+            cols = np.maximum(part.unknown[contact, l], 0)
+            row_factor = sign * part.sign[contact, k]
+            col_factor = part.weight[contact, l]
+            for start in range(0, nc, _ROWS):  # in row chunks: bounded temporaries
+                part_rows = slice(start, start + _ROWS)
+                gathered = response[np.ix_(rows[part_rows], cols)]
+                gathered *= row_factor[part_rows, None]
+                gathered *= col_factor[None, :]
+                block[part_rows] += gathered
         out[name] = block
     return out
 
@@ -90,23 +115,23 @@ def contact_blocks(solution: np.ndarray, weights: np.ndarray) -> dict[str, np.nd
 class Condensed:
     """A factorised BEM body, ready for load cases (plain arrays, read-only use).
 
-    ``factors`` the LU of A; ``rhs`` = R = [B E_c | B V] (M, 2 n_c + 2);
-    ``unknowns`` (N, 2) the row of X for each node's component; ``far_values``
-    = V (2N, 2) [length / (force/length)]; ``weights`` (n_c,) the contact
-    quadrature weights [length].
+    Per reduction (``parts``, :mod:`.symmetry`): ``factors`` the LU of its A and
+    ``rhs`` its R = [B E_c | B V]; ``far_values`` = V (2N, 2) [length /
+    (force/length)]; ``weights`` (n_c,) the contact quadrature weights [length].
     """
 
     mesh: BoundaryMesh
-    factors: tuple
-    rhs: np.ndarray
-    unknowns: np.ndarray
+    parts: list
+    factors: list
+    rhs: list
     far_values: np.ndarray
     weights: np.ndarray
 
 
-def prepare(mesh: BoundaryMesh, system: MixedSystem, weights: np.ndarray, far_values: np.ndarray) -> Condensed:
-    """Factorise ``system`` (in place: its matrix becomes the LU) for load cases on ``mesh``."""
-    return Condensed(mesh, factorise(system.matrix), system.rhs, system.unknowns, far_values, weights)
+def prepare(mesh: BoundaryMesh, parts: list, systems: list, weights: np.ndarray, far_values: np.ndarray) -> Condensed:
+    """Factorise the ``systems`` of the reductions ``parts`` (in place: each matrix becomes its LU)."""
+    factors = [factorise(system.matrix) for system in systems]
+    return Condensed(mesh, parts, factors, [system.rhs for system in systems], far_values, weights)
 
 
 def boundary_values(body: Condensed, tractions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -117,12 +142,18 @@ def boundary_values(body: Condensed, tractions: np.ndarray) -> tuple[np.ndarray,
     mesh nodes, far-field conditions included.
     """
     t_c = np.asarray(tractions, dtype=float)
-    force = body.weights @ t_c  # (F_x, F_y)
-    loads = np.concatenate([t_c[:, 0], t_c[:, 1], force])
-    solution = solve(body.factors, body.rhs @ loads)
     mesh = body.mesh
+    contact = mesh.contact
+    force = body.weights @ t_c  # (F_x, F_y)
+    unknown = np.zeros((mesh.size, 2))  # u where the traction is known, t where u is
+    for part, factors, rhs in zip(body.parts, body.factors, body.rhs, strict=True):
+        valid = part.unknown[contact] >= 0
+        weighted = (part.weight[contact] * t_c)[valid]
+        loads = np.bincount(part.unknown[contact][valid], weights=weighted, minlength=part.contact)
+        solution = solve(factors, rhs @ np.concatenate([loads, force[list(part.forces)]]))
+        kept = part.unknown >= 0
+        unknown[kept] += part.sign[kept] * solution[part.unknown[kept]]
     known = body.far_values.reshape(mesh.size, 2, 2) @ force  # (N, 2): the far field, zero elsewhere
-    known[mesh.contact] = t_c
-    unknown = solution[body.unknowns]
+    known[contact] = t_c
     fixed = mesh.fixed[:, None]
     return np.where(fixed, known, unknown), np.where(fixed, unknown, known)

@@ -1,23 +1,26 @@
-"""The mixed boundary system of a BEM body, assembled straight from the element integrals.
+"""The mixed boundary systems of a BEM body, assembled straight from the element integrals.
 
-Collocating H u = G t at every node and moving the known boundary values y to
+Collocating H u = G t at the nodes and moving the known boundary values y to
 the right gives A X = B y, X the unknowns: u where the traction is known (the
 top face), t where u is known (a layer's bonded bottom, a half-space's
-truncation boundary). Only what the condensation needs is formed, each array
-once and column-major for LAPACK:
+truncation boundary). Per :class:`~.symmetry.Reduction` (the whole system, or
+each mirror half: equations at its collocation nodes, unknowns its
+parameters) only what the condensation needs is formed, each array once and
+column-major for LAPACK:
 
-* A (M, M), M = 2N: H's columns for the free degrees of freedom, -G's for the
-  fixed ones, the diagonal 2x2 blocks of H from the rigid-body condition;
-* the right-hand sides R = [B E_c | B V] (M, 2 n_c + 2): B's columns for the
-  contact tractions (G's contact columns) and B V, the far field per unit
-  resultant force (V the prescribed values per unit force, on ``mesh.far``).
+* A (M, M): H's columns for the free degrees of freedom, -G's for the fixed
+  ones (combined by the reduction's signs), the diagonal 2x2 blocks of H from
+  the rigid-body condition;
+* the right-hand sides R = [B E_c | B V] (M, m + f): B's columns for the
+  reduction's m contact parameters (G's contact columns) and B V, the far
+  field per unit resultant force along its force axes (V the prescribed values
+  per unit force, on ``mesh.far``).
 
 B's other columns multiply zero data (zero traction off the contact, zero
-displacement on a bonded bottom) and are never stored, nor are H and G.
-Unknown order: the contact nodes' u_x in increasing x, then their u_y, then
-the other degrees of freedom in node order; right-hand sides: t_x at the
-contact nodes, then t_y, then the far field's F_x and F_y. So the first
-2 n_c rows of A^-1 R are the contact displacements.
+displacement on a bonded bottom) and are never stored, nor are H and G. The
+equations are ordered as the collocation nodes' kept components; the
+unknowns as the reduction numbers them (contact first), so the first m rows
+of A^-1 R are contact displacements.
 """
 
 from __future__ import annotations
@@ -28,59 +31,103 @@ import numpy as np
 
 from .assembly import element_blocks
 from .mesh import BoundaryMesh
+from .symmetry import Reduction
 
 
 @dataclass(frozen=True)
 class MixedSystem:
-    """A X = R: ``matrix`` A (M, M) and ``rhs`` R (M, 2 n_c + 2), both column-major;
-    ``unknowns`` (N, 2) the unknown number (row of X) of each node's x and y component."""
+    """A X = R: ``matrix`` A (M, M) and ``rhs`` R (M, m + f), both column-major."""
 
     matrix: np.ndarray
     rhs: np.ndarray
-    unknowns: np.ndarray
 
 
-def unknown_numbers(mesh: BoundaryMesh) -> np.ndarray:
-    """(N, 2): the unknown of node j's component l; contact u_x, then contact u_y (increasing x), then the rest."""
-    n, nc = mesh.size, mesh.contact.size
-    out = np.empty((n, 2), dtype=np.int64)
-    out[mesh.contact, 0] = np.arange(nc)
-    out[mesh.contact, 1] = nc + np.arange(nc)
-    others = np.setdiff1d(np.arange(n), mesh.contact)
-    out[others] = 2 * nc + np.arange(2 * others.size).reshape(-1, 2)
-    return out
-
-
-def mixed_system(mesh: BoundaryMesh, shear: float, poisson: float, far_values: np.ndarray) -> MixedSystem:
-    """Assemble A and R (module docstring) for ``mesh``: G [stress], nu, ``far_values`` V (2N, 2)
-    [length / (force/length)] (row 2j + l: node j's prescribed component l per unit force along
-    axis f = column; zero off ``mesh.far``)."""
-    n, nc = mesh.size, mesh.contact.size
-    unknowns = unknown_numbers(mesh)
-    slot = np.full(n, -1)
-    slot[mesh.contact] = np.arange(nc)
-    far = np.asarray(far_values, dtype=float).reshape(n, 2, 2)  # [node j, component l, force axis f]
-    matrix_t = np.zeros((2 * n, n, 2))  # [unknown, equation node i, direction k]: A transposed
-    rhs_t = np.zeros((2 * nc + 2, n, 2))
-    rowsum = np.zeros((2, n, 2))  # sum_j H[(i, k), (j, l)] as [l, i, k]
-    for elements, h, g in element_blocks(mesh, shear, poisson):
+def mixed_systems(
+    mesh: BoundaryMesh, shear: float, poisson: float, far_values: np.ndarray, parts: list[Reduction]
+) -> list[MixedSystem]:
+    """Assemble A and R (module docstring) of each reduction in ``parts`` (which share their
+    collocation nodes) for ``mesh``: G [stress], nu, ``far_values`` V (2N, 2) [length / (force/length)]
+    (row 2j + l: node j's prescribed component l per unit force along axis f = column; zero off
+    ``mesh.far``). One pass over the element integrals serves them all."""
+    points = parts[0].points
+    far = np.asarray(far_values, dtype=float).reshape(mesh.size, 2, 2)  # [node j, component l, force axis f]
+    sinks = [_Sink(mesh, part, points) for part in parts]
+    rowsum = np.zeros((2, points.size, 2))  # sum_j H[(i, k), (j, l)] as [l, p, k], i = points[p]
+    for elements, h, g in element_blocks(mesh, shear, poisson, points):
         rowsum += h.sum(axis=(0, 1))
         for a in range(3):  # within one slot a, the nodes of distinct elements are distinct
             nodes = mesh.connectivity[elements, a]
-            fixed = mesh.fixed[nodes]
-            contact = slot[nodes] >= 0
+            for sink in sinks:
+                sink.add(nodes, h[:, a], g[:, a], far)
+    return [sink.finish(-rowsum, far) for sink in sinks]
+
+
+class _Sink:
+    """Accumulates one reduction's A (transposed: [unknown, equation]) and R from the element blocks."""
+
+    def __init__(self, mesh: BoundaryMesh, part: Reduction, points: np.ndarray):
+        self.mesh, self.part, self.points = mesh, part, points
+        valid = (part.unknown[points] >= 0).ravel()  # the equations: the kept components (p, k) of the points
+        self.rows = np.flatnonzero(valid)
+        if self.rows.size != part.size:
+            raise ValueError("a reduction needs as many equations as unknowns")
+        self.row_of = np.where(valid, np.cumsum(valid) - 1, -1).reshape(points.size, 2)
+        self.all_rows = self.rows.size == 2 * points.size
+        self.matrix_t = np.zeros((part.size, part.size))
+        self.rhs_t = np.zeros((part.contact + len(part.forces), part.size))
+        # each parameter gathers two node columns on a mirrored pair: add the nodes in two passes,
+        # the collocation nodes (their own representatives) and the others, so no parameter repeats in a pass
+        self.first = np.zeros(mesh.size, dtype=bool)
+        self.first[points] = True
+
+    def _equations(self, columns: np.ndarray) -> np.ndarray:
+        """(count, P, 2) integrals of node columns -> (count, M) on this reduction's equations."""
+        flat = columns.reshape(columns.shape[0], -1)
+        return flat if self.all_rows else flat[:, self.rows]
+
+    def add(self, nodes, h, g, far) -> None:
+        """Add the columns of ``nodes`` (e,), one per element: h, g (e, 2, P, 2) = [element, l, p, k]."""
+        part, mesh = self.part, self.mesh
+        for first in (True, False):
             for l in range(2):
-                matrix_t[unknowns[nodes[~fixed], l]] += h[~fixed, a, l]
-                matrix_t[unknowns[nodes[fixed], l]] -= g[fixed, a, l]
-                rhs_t[l * nc + slot[nodes[contact]]] += g[contact, a, l]
-            on_far = mesh.far[nodes]
-            if np.any(on_far):  # B V: -H's columns where u is prescribed, G's where t is
-                columns = np.where(fixed[on_far, None, None, None], -h[on_far, a], g[on_far, a])
-                rhs_t[2 * nc :] += np.einsum("plik,plf->fik", columns, far[nodes[on_far]])
-    diagonal = -rowsum  # H[(i, k), (i, l)] as [l, i, k]: each row of H sums to zero per direction
-    free = np.flatnonzero(~mesh.fixed)
-    for l in range(2):
-        matrix_t[unknowns[free, l], free] += diagonal[l, free]
-    far_fixed = np.flatnonzero(mesh.far & mesh.fixed)
-    rhs_t[2 * nc :, far_fixed] -= np.einsum("lik,ilf->fik", diagonal[:, far_fixed], far[far_fixed])
-    return MixedSystem(matrix_t.reshape(2 * n, 2 * n).T, rhs_t.reshape(2 * nc + 2, 2 * n).T, unknowns)
+                chosen = (self.first[nodes] == first) & (part.unknown[nodes, l] >= 0)
+                for kind, fixed in (("free", False), ("fixed", True)):
+                    index = np.flatnonzero(chosen & (mesh.fixed[nodes] == fixed))
+                    if not index.size:
+                        continue
+                    ids = nodes[index]
+                    sign = part.sign[ids, l][:, None]
+                    cols = part.unknown[ids, l]
+                    if kind == "fixed":
+                        self.matrix_t[cols] -= sign * self._equations(g[index, l])
+                        continue
+                    self.matrix_t[cols] += sign * self._equations(h[index, l])
+                    contact = cols < part.contact  # contact parameters: the first unknowns (free nodes)
+                    if np.any(contact):
+                        self.rhs_t[cols[contact]] += sign[contact] * self._equations(g[index[contact], l])
+        on_far = np.flatnonzero(mesh.far[nodes])
+        if on_far.size:  # B V over every far node column: -H's where u is prescribed, G's where t is
+            columns = np.where(mesh.fixed[nodes[on_far], None, None, None], -h[on_far], g[on_far])
+            values = far[nodes[on_far]][:, :, list(part.forces)]  # (count, l, f)
+            self.rhs_t[part.contact :] += self._equations(np.einsum("clpk,clf->fpk", columns, values))
+
+    def finish(self, diagonal: np.ndarray, far: np.ndarray) -> MixedSystem:
+        """Add H's diagonal blocks (``diagonal`` [l, p, k] = H[(i, k), (i, l)], i = points[p]); return A, R."""
+        part, mesh, points = self.part, self.mesh, self.points
+        for l in range(2):
+            free = np.flatnonzero(~mesh.fixed[points] & (part.unknown[points, l] >= 0))
+            cols = part.unknown[points[free], l]
+            sign = part.sign[points[free], l]
+            for k in range(2):
+                rows = self.row_of[free, k]
+                kept = rows >= 0
+                self.matrix_t[cols[kept], rows[kept]] += sign[kept] * diagonal[l, free[kept], k]
+        far_fixed = np.flatnonzero(mesh.far[points] & mesh.fixed[points])
+        if far_fixed.size:  # B V: -H's diagonal blocks where u is prescribed (the points' own columns)
+            values = far[points[far_fixed]][:, :, list(part.forces)]  # (count, l, f)
+            product = np.einsum("lck,clf->fck", diagonal[:, far_fixed], values)  # (f, count, k)
+            for k in range(2):
+                rows = self.row_of[far_fixed, k]
+                kept = rows >= 0
+                self.rhs_t[part.contact :, rows[kept]] -= product[:, kept, k]
+        return MixedSystem(self.matrix_t.T, self.rhs_t.T)
