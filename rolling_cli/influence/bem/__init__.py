@@ -5,10 +5,11 @@ Pipeline: :mod:`.mesh` (immutable boundary mesh of the rectangular body) ->
 quadratic elements, :mod:`.elements`; in closed form on the element's own
 line, :mod:`.collinear`) -> :mod:`.system` (the mixed boundary system A and
 its 2 n_c + 2 right-hand sides, the last two the half-space far field of
-:mod:`.farfield`, assembled straight from the integrals) -> :mod:`.condense`
-(one LU in place, the solves in place) ->
-:class:`~rolling_cli.influence.Compliance` in the body's own frame, the same
-interface as the closed-form half-plane.
+:mod:`.farfield`, assembled straight from the integrals; a body that is its
+own mirror image, as every body meshed here is, as two systems of half the
+size, :mod:`.symmetry`) -> :mod:`.condense` (one LU in place per system, the
+solves in place) -> :class:`~rolling_cli.influence.Compliance` in the body's
+own frame, the same interface as the closed-form half-plane.
 
 Two bodies are modelled: a **half-space** (an elastic cylinder near its
 contact), truncated to [-W, W] x [-D, 0] with the half-space's far-field

@@ -18,10 +18,11 @@ over e are computed in one of three ways, vectorised over all pairs of a kind:
 
 The element geometry and the regular rule's points are computed once
 (:class:`Geometry`). The integrals come a block of elements at a time
-(:func:`element_blocks`; each block (N, e, 3, 2, 2) for H and for G, at most
-:data:`BLOCK` doubles together), and a consumer adds them into the columns it
-needs: :func:`assemble` into the dense H and G, :func:`.system.mixed_system`
-straight into the boundary system.
+(:func:`element_blocks`; each block (e, 3, 2, P, 2) for H and for G, P
+collocation nodes, at most :data:`BLOCK` doubles together, in two reused
+buffers), and a consumer adds them into the columns it needs:
+:func:`assemble` into the dense H and G, :func:`.system.mixed_systems`
+straight into the boundary systems.
 """
 
 from __future__ import annotations

@@ -68,11 +68,14 @@ class _Sink:
     def __init__(self, mesh: BoundaryMesh, part: Reduction, points: np.ndarray):
         self.mesh, self.part, self.points = mesh, part, points
         valid = (part.unknown[points] >= 0).ravel()  # the equations: the kept components (p, k) of the points
-        self.rows = np.flatnonzero(valid)
-        if self.rows.size != part.size:
+        if np.count_nonzero(valid) != part.size:
             raise ValueError("a reduction needs as many equations as unknowns")
         self.row_of = np.where(valid, np.cumsum(valid) - 1, -1).reshape(points.size, 2)
-        self.all_rows = self.rows.size == 2 * points.size
+        # the kept equations as runs of consecutive (p, k) positions: source and target slices
+        edges = np.flatnonzero(np.diff(np.concatenate([[False], valid, [False]]).astype(np.int8)))
+        rank = self.row_of.ravel()
+        starts, stops = edges[::2], edges[1::2]
+        self.runs = [(slice(lo, hi), slice(rank[lo], rank[lo] + hi - lo)) for lo, hi in zip(starts, stops, strict=True)]
         self.matrix_t = np.zeros((part.size, part.size))
         self.rhs_t = np.zeros((part.contact + len(part.forces), part.size))
         # each parameter gathers two node columns on a mirrored pair: add the nodes in two passes,
@@ -80,36 +83,49 @@ class _Sink:
         self.first = np.zeros(mesh.size, dtype=bool)
         self.first[points] = True
 
-    def _equations(self, columns: np.ndarray) -> np.ndarray:
-        """(count, P, 2) integrals of node columns -> (count, M) on this reduction's equations."""
+    def _add(self, target: np.ndarray, cols: np.ndarray, columns: np.ndarray, sign: float) -> None:
+        """target[cols] += sign * the kept equations of ``columns`` (count, P, 2); sign +-1.
+
+        Strided runs of ``cols`` are added through views, in place."""
         flat = columns.reshape(columns.shape[0], -1)
-        return flat if self.all_rows else flat[:, self.rows]
+        where = _span(cols)
+        for source, kept in self.runs:
+            if sign > 0:
+                target[where, kept] += flat[:, source]
+            else:
+                target[where, kept] -= flat[:, source]
 
     def add(self, nodes, h, g, far) -> None:
         """Add the columns of ``nodes`` (e,), one per element: h, g (e, 2, P, 2) = [element, l, p, k]."""
         part, mesh = self.part, self.mesh
-        for first in (True, False):
-            for l in range(2):
-                chosen = (self.first[nodes] == first) & (part.unknown[nodes, l] >= 0)
-                for kind, fixed in (("free", False), ("fixed", True)):
-                    index = np.flatnonzero(chosen & (mesh.fixed[nodes] == fixed))
+        first, fixed = self.first[nodes], mesh.fixed[nodes]
+        for l in range(2):
+            has = part.unknown[nodes, l] >= 0
+            for own in (True, False):  # the sign is the same for every node of one pass
+                for prescribed in (False, True):
+                    index = np.flatnonzero(has & (first == own) & (fixed == prescribed))
                     if not index.size:
                         continue
-                    ids = nodes[index]
-                    sign = part.sign[ids, l][:, None]
-                    cols = part.unknown[ids, l]
-                    if kind == "fixed":
-                        self.matrix_t[cols] -= sign * self._equations(g[index, l])
+                    sign = part.sign[nodes[index], l]
+                    if np.any(sign != sign[0]):
+                        raise ValueError("a pass of node columns mixes signs")
+                    cols = part.unknown[nodes[index], l]
+                    rows = _span(index)
+                    if prescribed:  # A's column is -G's
+                        self._add(self.matrix_t, cols, g[rows, l], -sign[0])
                         continue
-                    self.matrix_t[cols] += sign * self._equations(h[index, l])
+                    self._add(self.matrix_t, cols, h[rows, l], sign[0])
                     contact = cols < part.contact  # contact parameters: the first unknowns (free nodes)
-                    if np.any(contact):
-                        self.rhs_t[cols[contact]] += sign[contact] * self._equations(g[index[contact], l])
+                    if np.all(contact):
+                        self._add(self.rhs_t, cols, g[rows, l], sign[0])
+                    elif np.any(contact):
+                        self._add(self.rhs_t, cols[contact], g[index[contact], l], sign[0])
         on_far = np.flatnonzero(mesh.far[nodes])
         if on_far.size:  # B V over every far node column: -H's where u is prescribed, G's where t is
             columns = np.where(mesh.fixed[nodes[on_far], None, None, None], -h[on_far], g[on_far])
             values = far[nodes[on_far]][:, :, list(part.forces)]  # (count, l, f)
-            self.rhs_t[part.contact :] += self._equations(np.einsum("clpk,clf->fpk", columns, values))
+            product = np.einsum("clpk,clf->fpk", columns, values)
+            self._add(self.rhs_t, part.contact + np.arange(len(part.forces)), product, 1.0)
 
     def finish(self, diagonal: np.ndarray, far: np.ndarray) -> MixedSystem:
         """Add H's diagonal blocks (``diagonal`` [l, p, k] = H[(i, k), (i, l)], i = points[p]); return A, R."""
@@ -131,3 +147,14 @@ class _Sink:
                 kept = rows >= 0
                 self.rhs_t[part.contact :, rows[kept]] -= product[:, kept, k]
         return MixedSystem(self.matrix_t.T, self.rhs_t.T)
+
+
+def _span(index: np.ndarray):
+    """A slice for an index array in arithmetic progression (so the addition goes through a view), else the array."""
+    if index.size == 1:
+        return slice(int(index[0]), int(index[0]) + 1)
+    step = int(index[1] - index[0]) if index.size > 1 else 0
+    if step != 0 and np.all(np.diff(index) == step):
+        stop = int(index[-1]) + step
+        return slice(int(index[0]), stop if stop >= 0 else None, step)
+    return index
