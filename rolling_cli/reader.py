@@ -141,7 +141,10 @@ def read_case(handle, row: int = 0, table: dict | None = None) -> Result:
     for name, hook in GROUP_HOOKS.items():
         group_name = f"{name}/case_{int(handle['case'][row]):06d}"
         if group_name in handle:
-            setattr(result, name, hook.read(handle[group_name]))
+            if name in result.__dataclass_fields__:
+                setattr(result, name, hook.read(handle[group_name]))
+            else:  # a per-case array attribute (element_edges)
+                result.attributes[name] = hook.read(handle[group_name])
     return result
 
 

@@ -46,8 +46,22 @@ def _read_stresses(group):
     return read_stresses(group)
 
 
+def _write_edges(group, edges) -> None:
+    group.create_dataset("element_edges", data=np.asarray(edges, dtype=float))
+    group["element_edges"].attrs["long_name"] = "element edges of the graded contact grid (x, in the solver's frame)"
+
+
+def _read_edges(group) -> np.ndarray:
+    return group["element_edges"][()]
+
+
 #: name -> hook; a Result whose attribute ``name`` is set (not None, not empty) gets that group.
-GROUP_HOOKS: dict[str, GroupHook] = {"stresses": GroupHook(_write_stresses, _read_stresses)}
+#: ``element_edges`` (an adaptive or graded grid's edges [length], a per-case array of its own
+#: length) is a Result attribute: it is read back into ``Result.attributes``.
+GROUP_HOOKS: dict[str, GroupHook] = {
+    "stresses": GroupHook(_write_stresses, _read_stresses),
+    "element_edges": GroupHook(_write_edges, _read_edges),
+}
 
 
 @dataclass
@@ -79,7 +93,7 @@ def node_arrays(result) -> dict[str, np.ndarray]:
 
 def row_from_result(result, index: int = 0, coords: dict | None = None, **scalars) -> Row:
     """The row of a solved case (converged or not); ``scalars`` add or replace per-case values."""
-    values = {k: v for k, v in result.attributes.items() if k not in PROVENANCE}
+    values = {k: v for k, v in result.attributes.items() if k not in PROVENANCE and k not in GROUP_HOOKS}
     values.update(scalars)
     values["nodes"] = int(result.x.size)
     values["history_rows"] = len(result.history)
@@ -91,6 +105,8 @@ def _present(payload) -> bool:
     """An extra group is written when its payload is set: not None, and not an empty dict or list."""
     if payload is None:
         return False
+    if isinstance(payload, np.ndarray):
+        return payload.size > 0
     return len(payload) > 0 if isinstance(payload, (dict, list, tuple)) else True
 
 

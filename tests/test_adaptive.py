@@ -9,7 +9,6 @@ tolerance cannot be met. Small cases only: the study is benchmarks/adaptive.py.
 
 import math
 
-import h5py
 import numpy as np
 import pytest
 
@@ -89,9 +88,8 @@ def test_refinement_cap_ends_the_loop_with_a_clear_message(tmp_path):
     run = run_cli("solve", path, "-o", out)
     assert run.exit_code == 0, run.output
     assert "tolerance 0.0001 NOT met" in run.output and "WARNING" in run.output
-    with h5py.File(out) as f:
-        attrs = dict(f.attrs)
-    assert attrs["adaptive_met"] == np.False_ and attrs["adaptive_refinements"] == 1
+    attrs = rolling_cli.read_result(out).attributes
+    assert not attrs["adaptive_met"] and attrs["adaptive_refinements"] == 1
     note = str(attrs["adaptive_note"])
     assert "not met" in note and "discretization.max_refinements = 1" in note
     assert f"estimate {attrs['adaptive_estimate']:.3g}" in note and attrs["adaptive_estimate"] > 1e-4
@@ -194,15 +192,14 @@ def test_sweep_adapts_each_case_and_stores_each_mesh(tmp_path):
         "sweep", write_case(tmp_path, base), "--set", "tangential.q_over_mu_p=0.3,0.8", "-o", out, "--workers", 1
     )
     assert run.exit_code == 0, run.output
-    with h5py.File(out) as f:
-        groups = [f["cases"][name] for name in sorted(f["cases"])]
-        edges = [g.attrs["element_edges"] for g in groups]
-        assert all(g.attrs["adaptive_met"] and g.attrs["adaptive_estimate"] <= 3e-3 for g in groups)
-        assert all(
-            e.size == g.attrs["contact_elements"] + 1 == g["x"].shape[0] // 3 + 1
-            for e, g in zip(edges, groups, strict=True)
-        )
-        assert edges[0].size != edges[1].size or not np.array_equal(edges[0], edges[1])
+    cases = [rolling_cli.read_result(out, row) for row in (0, 1)]
+    edges = [r.element_edges for r in cases]
+    assert all(r.adaptive_met and r.adaptive_estimate <= 3e-3 for r in cases)
+    assert all(e.size == r.contact_elements + 1 == r.x.size // 3 + 1 for e, r in zip(edges, cases, strict=True))
+    assert edges[0].size != edges[1].size or not np.array_equal(edges[0], edges[1])
+    # the stored edges are the solved grid's: its quadratic nodes sit at +-2/3 of each element's half-length
+    centre, half = (edges[0][1:] + edges[0][:-1]) / 2, np.diff(edges[0]) / 2
+    assert np.allclose(cases[0].x[0::3], centre - 2 * half / 3, rtol=0, atol=1e-12 * np.ptp(edges[0]))
 
 
 @pytest.mark.parametrize(
