@@ -3,7 +3,9 @@
 Cases (all at their shipped settings otherwise):
 * Carter (cases/carter.toml, similar, Q/(mu P) = 0.51): exact reference.
 * Dissimilar (cases/dissimilar_q04.toml, beta_seed = 0.288, Q/(mu P) = 0.04):
-  reference = the finest half-plane solution (its own convergence is shown).
+  reference = the adaptive half-plane solution at tolerance 1e-4 (graded mesh,
+  interpolated with its element polynomials; its own estimate and the uniform
+  runs of 320-1280 elements against it are shown).
 * Tyred cylinder (cases/tyred_fig11_q41.toml, incompressible layer, b/a = 0.1):
   reference = the finest BEM solution (the half-plane model cannot do layers).
 
@@ -21,8 +23,16 @@ on the same grid (a model error: the discretisations are the same), before
 issue #10 (the finite block, bottom fixed and sides free, W = D = 100 a) and
 after (the half-space with the far-field truncation).
 
+**Accuracy on demand** (issue #13): the adaptive mode (``[discretization]
+tolerance``: graded meshes on the half-plane, uniform refinement on the BEM)
+against the uniform default route (``influence = "auto"``, fd), both timed as
+WHOLE processes (``rollc -q solve CASE --no-cache`` in a subprocess, fastest
+of 3; start-up included), with the table "tolerance requested -> error
+achieved -> time".
+
 Writes benchmarks/results/accuracy_cost.md (tables) and accuracy_cost.png
-(error against time, log-log, one line per method, Pareto front in grey).
+(error against time, log-log, one line per method, Pareto front in grey; the
+last row: adaptive and uniform against whole-process time).
 
     python benchmarks/accuracy_cost.py [--quick]
 """
@@ -31,9 +41,13 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import logging
 import math
+import os
 import platform
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -42,11 +56,14 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import rolling_cli  # noqa: E402
-from rolling_cli.case import load_case, with_overrides  # noqa: E402
+from rolling_cli.adapt import transfer  # noqa: E402
+from rolling_cli.case import case_to_toml, load_case, with_overrides  # noqa: E402
 from rolling_cli.errors import RollingError  # noqa: E402
 from rolling_cli.estimate import add_error_estimate  # noqa: E402
+from rolling_cli.grid import ContactGrid  # noqa: E402
 from rolling_cli.influence import bem, combine  # noqa: E402
 from rolling_cli.influence.build import clear_memo  # noqa: E402
+from rolling_cli.io_hdf5 import read_result  # noqa: E402
 from rolling_cli.pipeline import plan  # noqa: E402
 from rolling_cli.references import carter  # noqa: E402
 from rolling_cli.system import build_system  # noqa: E402
@@ -79,6 +96,9 @@ class Reference:
     def traction(self, r):
         if self.exact:
             return carter.traction(r.x, 0.51, r.hertz_a, r.hertz_p0, r.mu, -1)
+        if "element_edges" in self.result.attributes:  # a graded reference: its element polynomials
+            grid = ContactGrid.graded(self.result.element_edges, self.result.element_order)
+            return transfer.interpolate(grid, self.result.p_t, r.x)
         return np.interp(r.x, self.result.x, self.result.p_t)
 
     def creep(self, r):
@@ -95,6 +115,13 @@ class Reference:
 
     def half_width(self, r):
         return r.hertz_a if self.exact else self.result.contact_half_width
+
+    def resolution(self) -> float:
+        """The reference's own maximum error bound [-]: 0 for the closed form, its adaptive estimate,
+        or NaN (a uniform reference: not estimated)."""
+        if self.exact:
+            return 0.0
+        return float(self.result.attributes.get("adaptive_estimate", math.nan))
 
 
 def measure(r, seconds, ref: Reference) -> dict:
@@ -169,6 +196,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="fewer meshes (for a smoke run)")
     args = parser.parse_args()
+    logging.getLogger("rolling_cli").setLevel(logging.ERROR)  # the capped adaptive runs warn
     OUT.mkdir(parents=True, exist_ok=True)
     full = [5, 10, 20, 40, 80, 160, 320, 640]
     elements = [5, 20, 80] if args.quick else full
@@ -180,16 +208,13 @@ def main() -> None:
 
     print("dissimilar: reference", flush=True)
     dis = load_case(ROOT / "cases" / "dissimilar_q04.toml")
+    finest = run(adaptive_case(dis, 1e-4, refinements=12))[0]
     ref_levels = [160, 320] if args.quick else [320, 640, 1280]
-    ref_runs = {}
-    for n in ref_levels:
-        ref_runs[n] = run(with_overrides(dis, {"discretization.contact_elements": n}))[0]
-    finest = ref_runs[ref_levels[-1]]
     self_conv = []
-    for n in ref_levels[:-1]:
-        m = measure(ref_runs[n], 0.0, Reference(finest))
+    for n in ref_levels:
+        m = measure(run(with_overrides(dis, {"discretization.contact_elements": n}))[0], 0.0, Reference(finest))
         self_conv.append((n, m["max"], m["rms"], m["creep"]))
-    rows += study("dissimilar", dis, METHODS, [e for e in elements if e < ref_levels[-1]], Reference(finest))
+    rows += study("dissimilar", dis, METHODS, elements, Reference(finest))
 
     print("tyred: reference", flush=True)
     tyre = load_case(ROOT / "cases" / "tyred_fig11_q41.toml")
@@ -215,9 +240,98 @@ def main() -> None:
             defaults[-1].update(measure(r, seconds, ref))
     print("BEM creepage model error, before and after issue #10", flush=True)
     model = model_error(200 if not args.quick else 60)
-    write_markdown(rows, self_conv, ref_levels, tyre_ref_n, time.perf_counter() - started, defaults, model)
-    write_plot(rows)
+    print("accuracy on demand: adaptive and uniform, whole process", flush=True)
+    references = {"Carter": Reference(exact=True), "dissimilar": Reference(finest), "tyred": Reference(tyre_ref)}
+    whole = whole_process_study(
+        {"Carter": load_case(ROOT / "cases" / "carter.toml"), "dissimilar": dis, "tyred": tyre},
+        references,
+        args.quick,
+    )
+    startup = startup_time()
+    write_markdown(rows, self_conv, finest, tyre_ref_n, time.perf_counter() - started, defaults, model)
+    write_adaptive_markdown(whole, startup)
+    write_plot(rows, whole)
     print(f"written {OUT / 'accuracy_cost.md'} and {OUT / 'accuracy_cost.png'}")
+
+
+#: Tolerances of the adaptive runs; the BEM (tyred) refines uniformly, which reaches only loose ones.
+TOLERANCES = {
+    "Carter": [1e-2, 3e-3, 1e-3, 3e-4, 1e-4],
+    "dissimilar": [1e-2, 3e-3, 1e-3, 3e-4],
+    "tyred": [0.1, 0.05, 0.03, 0.02],
+}
+#: Uniform meshes of the default route timed the same way.
+UNIFORM = {
+    "Carter": [20, 40, 80, 160, 320, 640],
+    "dissimilar": [20, 40, 80, 160, 320, 640],
+    "tyred": [60, 80, 120, 160, 240, 320],
+}
+
+
+def adaptive_case(base, tolerance: float, refinements: int = 10):
+    """``base`` in the adaptive mode at ``tolerance`` (fd, its own starting mesh)."""
+    return with_overrides(base, {"discretization.tolerance": tolerance, "discretization.max_refinements": refinements})
+
+
+def rollc(case, repeats: int):
+    """``rollc -q solve`` of ``case`` in a subprocess (cache off): the result and the fastest wall time."""
+    exe = Path(sys.executable).with_name("rollc")
+    command = [str(exe)] if exe.exists() else [sys.executable, "-m", "rolling_cli"]
+    best, result = math.inf, None
+    with tempfile.TemporaryDirectory() as tmp:
+        path, out = Path(tmp) / "case.toml", Path(tmp) / "case.h5"
+        path.write_text(case_to_toml(case))
+        for _ in range(repeats):
+            t = time.perf_counter()
+            subprocess.run(
+                [*command, "-q", "solve", str(path), "-o", str(out), "--no-cache"], check=True, env=os.environ
+            )
+            best = min(best, time.perf_counter() - t)
+        result = read_result(out)
+    return result, best
+
+
+def startup_time(repeats: int = 5) -> float:
+    """Whole-process time of ``rollc --version`` plus the imports a solve needs [s] (fastest)."""
+    code = "import rolling_cli.cli, rolling_cli.pipeline, rolling_cli.io_hdf5, scipy.linalg"
+    best = math.inf
+    for _ in range(repeats):
+        t = time.perf_counter()
+        subprocess.run([sys.executable, "-c", code], check=True)
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def whole_process_study(bases: dict, references: dict, quick: bool) -> list[dict]:
+    """Adaptive runs at each tolerance and uniform runs of the default route, whole process."""
+    repeats = 1 if quick else 3
+    rows = []
+    for name, base in bases.items():
+        base = with_overrides(base, {"discretization.influence": "auto", "discretization.slip_derivative": "fd"})
+        tolerances = TOLERANCES[name][:2] if quick else TOLERANCES[name]
+        sizes = UNIFORM[name][:3] if quick else UNIFORM[name]
+        runs = [("adaptive", tol, adaptive_case(base, tol)) for tol in tolerances]
+        runs += [("uniform", n, with_overrides(base, {"discretization.contact_elements": n})) for n in sizes]
+        for mode, value, case in runs:
+            r, seconds = rollc(case, repeats)
+            row = {"case": name, "mode": mode, "value": value, **measure(r, seconds, references[name])}
+            row.update(
+                elements=r.contact_elements,
+                in_process=float(r.time_total_solve),
+                influence_model=r.influence,
+                estimate=float(r.attributes.get("adaptive_estimate", math.nan)),
+                met=bool(r.attributes.get("adaptive_met", False)),
+                refinements=int(r.attributes.get("adaptive_refinements", 0)),
+                note=str(r.attributes.get("adaptive_note", "")),
+                resolution=references[name].resolution(),
+            )
+            rows.append(row)
+            print(
+                f"  {name:10s} {mode:8s} {value:g}: {row['elements']} elements, max {row['max']:.2e}, "
+                f"creep {row['creep']:.1e}, {seconds:.2f} s whole process, {row['in_process']:.3f} s in process",
+                flush=True,
+            )
+    return rows
 
 
 def block_system(case):
@@ -268,7 +382,7 @@ def model_error(elements: int) -> list[dict]:
     return out
 
 
-def write_markdown(rows, self_conv, ref_levels, tyre_ref_n, seconds, defaults, model):
+def write_markdown(rows, self_conv, finest, tyre_ref_n, seconds, defaults, model):
     lines = [
         "# What accuracy costs",
         "",
@@ -318,8 +432,10 @@ def write_markdown(rows, self_conv, ref_levels, tyre_ref_n, seconds, defaults, m
         lines += [f"## {name}", ""]
         if name == "dissimilar":
             lines += [
-                f"Reference: half-plane, fd, {ref_levels[-1]} elements. Its own convergence "
-                "(coarser half-plane runs against it):",
+                f"Reference: the adaptive half-plane solution at tolerance 1e-4 ({finest.contact_elements} "
+                f"graded elements, its own estimate {finest.adaptive_estimate:.1e} mu p0"
+                + ("" if finest.adaptive_met else ", the tolerance not met")
+                + "). The uniform half-plane runs of 320-1280 elements against it:",
                 "",
                 "| elements | max | RMS | creepage |",
                 "|---:|---:|---:|---:|",
@@ -370,18 +486,64 @@ def write_markdown(rows, self_conv, ref_levels, tyre_ref_n, seconds, defaults, m
     (OUT / "accuracy_cost.md").write_text("\n".join(lines) + "\n")
 
 
-def write_plot(rows):
+def write_adaptive_markdown(whole: list[dict], startup: float) -> None:
+    """Append the accuracy-on-demand section to accuracy_cost.md."""
+    lines = [
+        "## Accuracy on demand: the adaptive mode against uniform meshes, whole process",
+        "",
+        "Every run is a whole process, `rollc -q solve CASE --no-cache` (fastest of 3; shared machine, "
+        f"default BLAS threads), so Python's start-up and the imports are in: about {startup:.2f} s here "
+        "(the imports a solve needs, measured alone). In process: the solve alone (`time_total_solve`). "
+        "Adaptive: `[discretization] tolerance` from the case's own mesh (Carter and dissimilar: 200 "
+        "elements, graded half-plane levels; tyred: 100 elements, uniform BEM levels, as the BEM takes no "
+        'graded grid yet). Uniform: the default route (`influence = "auto"`, fd) at N elements. Errors '
+        "against the references above (dissimilar: the adaptive run at 1e-4, whose own estimate bounds "
+        "what it can resolve; tyred: the 640-element BEM run, so errors near its own, ~1e-3, are not "
+        "resolved).",
+        "",
+        "### Tolerance requested -> error achieved -> time",
+        "",
+        "| case | model | tolerance | met | elements | refinements | estimate | max error | estimate / error | "
+        "creepage error | whole process [s] | in process [s] |",
+        "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in (r for r in whole if r["mode"] == "adaptive"):
+        lines.append(
+            f"| {r['case']} | {r['influence_model']} | {r['value']:g} | {'yes' if r['met'] else 'no'} | "
+            f"{r['elements']} | {r['refinements']} | {r['estimate']:.2e} | {r['max']:.2e} | "
+            f"{r['estimate'] / r['max']:.1f} | {r['creep']:.1e} | {r['total']:.2f} | {r['in_process']:.3f} |"
+        )
+    notes = sorted({r["note"] for r in whole if r["mode"] == "adaptive" and r["note"]})
+    if notes:
+        lines += ["", "Not met:", ""] + [f"* {n}" for n in notes]
+    lines += [
+        "",
+        "### Uniform meshes of the default route, the same way",
+        "",
+        "| case | model | elements | max error | RMS error | creepage error | whole process [s] | in process [s] |",
+        "|---|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for r in (r for r in whole if r["mode"] == "uniform"):
+        lines.append(
+            f"| {r['case']} | {r['influence_model']} | {r['elements']} | {r['max']:.2e} | {r['rms']:.2e} | "
+            f"{r['creep']:.1e} | {r['total']:.2f} | {r['in_process']:.3f} |"
+        )
+    with open(OUT / "accuracy_cost.md", "a") as handle:
+        handle.write("\n".join(lines) + "\n")
+
+
+def write_plot(rows, whole):
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     names = ("Carter", "dissimilar", "tyred")
-    fig = Figure(figsize=(15, 9), layout="constrained")
+    fig = Figure(figsize=(15, 13), layout="constrained")
     FigureCanvasAgg(fig)
     for row, (key, label) in enumerate(
         (("rms", r"RMS traction error / $(\mu p_0)$ [-]"), ("max", r"max traction error / $(\mu p_0)$ [-]"))
     ):
         for k, name in enumerate(names):
-            ax = fig.add_subplot(2, 3, 3 * row + k + 1)
+            ax = fig.add_subplot(3, 3, 3 * row + k + 1)
             subset = [r for r in rows if r["case"] == name]
             for influence, scheme in sorted({(r["influence"], r["scheme"]) for r in subset}):
                 part = sorted(
@@ -406,6 +568,24 @@ def write_plot(rows):
             ax.set_title(f"{name}: {key} error against time (labels: contact elements)", fontsize=9)
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7)
+    for k, name in enumerate(names):
+        ax = fig.add_subplot(3, 3, 7 + k)
+        for mode, style in (("uniform", "s-"), ("adaptive", "o-")):
+            part = [r for r in whole if r["case"] == name and r["mode"] == mode]
+            if not part:
+                continue
+            ax.loglog([r["total"] for r in part], [r["max"] for r in part], style, ms=4, label=mode)
+            for r in part:
+                text = f"{r['value']:g}" if mode == "adaptive" else str(r["value"])
+                ax.annotate(text, (r["total"], r["max"]), fontsize=6, xytext=(2, 2), textcoords="offset points")
+        adaptive = [r for r in whole if r["case"] == name and r["mode"] == "adaptive"]
+        if adaptive:
+            ax.loglog([r["total"] for r in adaptive], [r["value"] for r in adaptive], "k:", lw=1, label="tolerance")
+        ax.set_xlabel("whole process [s] (rollc -q solve, start-up included)")
+        ax.set_ylabel(r"max traction error / $(\mu p_0)$ [-]")
+        ax.set_title(f"{name}: adaptive (labels: tolerance) and uniform (labels: elements)", fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
     fig.savefig(OUT / "accuracy_cost.png", dpi=120)
 
 

@@ -3,9 +3,10 @@
 For the paper's similar case (R = 100 mm, overlap 0.015 mm, Q/(mu P) = 0.51,
 half-spaces truncated at the default 100 a with the far-field condition), 21
 to 320 contact elements. The influence cache is off, so every stage is really
-computed; each time is the median of ``--repeat`` runs. "factorisation"
-includes the far-field values and right-hand sides, "condensation" the
-2 n_c + 2 solves.
+computed; each time is the median of ``--repeat`` runs. "assembly" is the
+far-field values and the boundary systems with their right-hand sides
+(the body's two mirror halves), "factorisation" their LUs, "condensation"
+the solves and the compliance blocks.
 
     python benchmarks/bench_bem.py [--repeat 3] [--elements 21,40,80,160,320]
 """
@@ -24,9 +25,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import rolling_cli  # noqa: E402
 from rolling_cli.case import load_case, with_overrides  # noqa: E402
 from rolling_cli.influence import bem  # noqa: E402
-from rolling_cli.influence.bem.assembly import assemble  # noqa: E402
-from rolling_cli.influence.bem.condense import contact_compliance, prepare  # noqa: E402
+from rolling_cli.influence.bem.condense import contact_blocks, factorise, solve  # noqa: E402
 from rolling_cli.influence.bem.farfield import far_field_values  # noqa: E402
+from rolling_cli.influence.bem.symmetry import reductions  # noqa: E402
+from rolling_cli.influence.bem.system import mixed_systems  # noqa: E402
 from rolling_cli.influence.build import bem_inputs, clear_memo  # noqa: E402
 from rolling_cli.pipeline import measured_plan  # noqa: E402
 
@@ -47,14 +49,17 @@ def stages(case):
     out["mesh"] = time.perf_counter() - t
     shear = body.young / (2 * (1 + body.poisson))
     t = time.perf_counter()
-    H, G = assemble(mesh, shear, body.poisson)
+    far = far_field_values(mesh, body.young, body.poisson, inputs["depth"])  # zero on a layer (no far nodes)
+    parts = reductions(mesh, far, grid.weights)
+    systems = mixed_systems(mesh, shear, body.poisson, far, parts)
     out["assembly"] = time.perf_counter() - t
     t = time.perf_counter()
-    far = far_field_values(mesh, body.young, body.poisson, inputs["depth"])
-    prepared = prepare(mesh, H, G, grid.weights, far)
+    factors = [factorise(system.matrix) for system in systems]
     out["factorisation"] = time.perf_counter() - t
     t = time.perf_counter()
-    contact_compliance(prepared, consume=True)
+    solutions = [solve(f, system.rhs, overwrite=True) for f, system in zip(factors, systems, strict=True)]
+    del factors, systems
+    contact_blocks(solutions, parts, mesh, grid.weights)
     out["condensation"] = time.perf_counter() - t
     clear_memo()
     t = time.perf_counter()

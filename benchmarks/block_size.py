@@ -44,8 +44,7 @@ import rolling_cli  # noqa: E402
 from rolling_cli.case import load_case, with_overrides  # noqa: E402
 from rolling_cli.grid import ContactGrid  # noqa: E402
 from rolling_cli.influence import bem, halfplane  # noqa: E402
-from rolling_cli.influence.bem import condense, farfield  # noqa: E402
-from rolling_cli.influence.bem.assembly import assemble  # noqa: E402
+from rolling_cli.influence.bem import farfield  # noqa: E402
 from rolling_cli.influence.bem.mesh import BoundaryMesh, _Builder, _frozen, graded_edges  # noqa: E402
 from rolling_cli.references import flamant, hertz  # noqa: E402
 
@@ -91,8 +90,7 @@ def half_space_traction(points: np.ndarray, normals: np.ndarray) -> np.ndarray:
 
 
 def _compliance(mesh, grid, nu, values):
-    H, G = assemble(mesh, E / (2 * (1 + nu)), nu)
-    return bem.compliance(condense.prepare(mesh, H, G, grid.weights, values), grid)
+    return bem.condensed(mesh, grid, E, nu, far_values=values)
 
 
 def variant(name: str, grid: ContactGrid, size: float, nu: float, hp):

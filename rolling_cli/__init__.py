@@ -20,8 +20,12 @@ method. Data flows one way, through plain arrays:
    (:mod:`rolling_cli.slip`).
 5. **Newton** (:mod:`rolling_cli.solver`): the projection equations solved by
    the generalised Newton method, with load control and a watchdog line search.
-6. **result** (:mod:`rolling_cli.result`), then **files and plots**
-   (:mod:`rolling_cli.io_hdf5`, :mod:`rolling_cli.plot`).
+6. **result** (:mod:`rolling_cli.result`), then **files and plots**: one
+   layout for results and sweeps (:mod:`rolling_cli.layout`), written by
+   appending rows (:mod:`rolling_cli.writer`), read by :mod:`rolling_cli.reader`
+   (:func:`open_result`: an ``xarray.Dataset``), exported as tables
+   (:mod:`rolling_cli.export`), plotted (:mod:`rolling_cli.plot`); sweeps
+   (:mod:`rolling_cli.sweep`) run serially, on local workers or on Dask.
 
 Python use::
 
@@ -30,11 +34,12 @@ Python use::
     result = rolling_cli.solve(case)
     print(result.tangential_load, result.creep)
     rolling_cli.write_result(result, "carter.h5")
+    ds = rolling_cli.open_result("carter.h5")  # xarray.Dataset (dims case, node)
 """
 
 from ._version import __version__
 
-__all__ = ["__version__", "load_case", "solve", "write_result", "read_result", "Result"]
+__all__ = ["__version__", "load_case", "solve", "write_result", "read_result", "open_result", "Result"]
 
 
 def __getattr__(name):
@@ -51,6 +56,10 @@ def __getattr__(name):
         from . import io_hdf5
 
         return getattr(io_hdf5, name)
+    if name == "open_result":
+        from .dataset import open_result
+
+        return open_result
     if name == "Result":
         from .result import Result
 

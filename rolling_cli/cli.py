@@ -1,14 +1,16 @@
 """The ``rollc`` command line. The only place that catches errors and sets up logging.
 
 Exit codes: 0 success; 1 the solve failed (no convergence, contact at the zone
-edge, or a failed sweep case); 2 bad input (invalid case, gross sliding,
-unreadable file).
+edge, or a failed sweep case) or an output could not be written; 2 bad input
+(invalid case, gross sliding, unreadable file, an output path refused or in
+use by another rollc); 130 interrupted (Ctrl-C, SIGTERM).
 """
 
 from __future__ import annotations
 
 import logging
 import os
+import shlex
 import signal
 import sys
 import time
@@ -35,10 +37,19 @@ def _fail(message: str, code: int) -> None:
 
 def _run(action):
     """Run a command body, mapping rolling_cli errors to one line and an exit code."""
+    from .outputs import WriteError
+
     try:
         return action()
     except (CaseError, GrossSlidingError) as err:
         _fail(str(err), 2)
+    except WriteError as err:
+        if err.fatal:  # HDF5 cannot release a file whose write failed; its exit handler would crash
+            click.echo(f"error: {err}", err=True)
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(1)
+        _fail(str(err), 1)
     except SolveError as err:
         _fail(str(err), 1)
     except RollingError as err:
@@ -47,10 +58,28 @@ def _run(action):
         _fail(f"{err.filename or ''}: {err.strerror or err}", 2)
 
 
+def _command() -> str:
+    """This command (its arguments and the options given), for the ``history`` attribute of its files."""
+    ctx = click.get_current_context()
+    parts = ["rollc", ctx.info_name]
+    for param in ctx.command.params:
+        value = ctx.params.get(param.name)
+        if isinstance(param, click.Argument):
+            parts.append(str(value))
+        elif value not in (None, False, (), param.default):
+            values = value if isinstance(value, tuple) else (value,)
+            for item in values:
+                parts += [param.opts[-1]] if item is True else [param.opts[-1], str(item)]
+    return shlex.join(parts)
+
+
 def default_output(case_path: str, configured: str | None) -> str:
-    """Result path: ``[output] file`` if set, else the case file's name with .h5 in the working directory."""
+    """Result path: ``[output] file`` if set (relative, inside the working directory), else the
+    case file's name with .h5 in the working directory."""
     if configured:
-        return configured
+        from .outputs import confined_output
+
+        return confined_output(configured, case_path)
     return Path(case_path).with_suffix(".h5").name
 
 
@@ -68,15 +97,17 @@ def main(ctx: click.Context, verbose: int, quiet: int) -> None:
 @main.command()
 @click.argument("case_file", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Result file (.h5).")
+@click.option("--overwrite", is_flag=True, help="Replace an existing output file (and figure).")
 @click.option("--keep-failed", is_flag=True, help="Write the last iterate of a failed solve, marked converged = false.")
 @click.option("--plot", "make_plot", is_flag=True, help="Also write a PNG figure beside the result.")
 @click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
 @click.option("--error-estimate", is_flag=True, help="Re-solve on half the contact elements and report the difference.")
 @click.pass_context
-def solve(ctx, case_file, output, keep_failed, make_plot, no_cache, error_estimate):
+def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, error_estimate):
     """Solve CASE_FILE and write the result to HDF5."""
 
     def action():
+        from . import outputs
         from .case import load_case
         from .io_hdf5 import write_result
         from .pipeline import solve as run_solve
@@ -84,24 +115,33 @@ def solve(ctx, case_file, output, keep_failed, make_plot, no_cache, error_estima
 
         case = load_case(case_file)
         out = output or default_output(case_file, case.output.file)
-        start = time.perf_counter()
-        result = run_solve(case, keep_failed=keep_failed, use_cache=not no_cache)
-        if error_estimate and result.attributes.get("converged"):
-            from .estimate import add_error_estimate
+        outputs.check_output(out, inputs=(case_file,), overwrite=overwrite)
+        figure = outputs.figure_path(out) if make_plot else None
+        if figure:
+            outputs.check_output(figure, inputs=(case_file, out), overwrite=overwrite, kind="figure")
+        signal.signal(signal.SIGTERM, _terminate)
+        with outputs.claim(out):
+            start = time.perf_counter()
+            result = run_solve(case, keep_failed=keep_failed, use_cache=not no_cache)
+            if error_estimate and result.attributes.get("converged"):
+                from .estimate import add_error_estimate
 
-            add_error_estimate(case, result, use_cache=not no_cache)
-        result.attributes["time_total"] = time.perf_counter() - start
-        write_result(result, out)
-        if make_plot:
-            from .plot import plot_file
+                add_error_estimate(case, result, use_cache=not no_cache)
+            result.attributes["time_total"] = time.perf_counter() - start
+            write_result(result, out, overwrite=overwrite, command=_command())
+            if figure:
+                from .plot import plot_file
 
-            plot_file(out, os.path.splitext(out)[0] + ".png")
+                plot_file(out, figure)
         if not ctx.obj["quiet"]:
             click.echo(summary(result, out))
         if not result.attributes.get("converged", True):
             _fail(f"{case_file}: {result.attributes.get('message')} (last iterate written to {out})", 1)
 
-    _run(action)
+    try:
+        _run(action)
+    except KeyboardInterrupt:
+        _fail("interrupted: nothing was written", 130)
 
 
 @main.command()
@@ -147,10 +187,12 @@ def check(case_file):
 @click.option(
     "--stresses", is_flag=True, help="Contour maps of the subsurface stresses (default output: NAME_stresses.png)."
 )
-def plot(result_file, output, show, stresses):
+@click.option("--overwrite", is_flag=True, help="Replace an existing figure file.")
+def plot(result_file, output, show, stresses, overwrite):
     """Plot a result or sweep file (default output: the file's name with .png)."""
 
     def action():
+        from . import outputs
         from .plot import FORMATS, plot_file
 
         draw, stem = plot_file, os.path.splitext(result_file)[0]
@@ -160,15 +202,51 @@ def plot(result_file, output, show, stresses):
             stem += "_stresses"
         if not os.path.exists(result_file):
             raise CaseError("file not found; allowed: a result or sweep file written by rollc", file=result_file)
-        out = output or (None if show else stem + ".png")
+        out = output or (None if show else outputs.figure_path(stem + ".h5" if stresses else result_file))
         if out and os.path.splitext(out)[1].lower() not in FORMATS:
             raise CaseError(f"-o {out}: unsupported figure format; allowed: {', '.join(FORMATS)}")
+        if out:
+            outputs.check_output(out, inputs=(result_file,), overwrite=overwrite, kind="figure")
         try:
             draw(result_file, out, show)
-        except (OSError, KeyError, ValueError) as err:
+        except (OSError, KeyError, ValueError, IndexError) as err:
             raise CaseError(f"not a readable rolling_cli result or sweep file ({err})", file=result_file) from None
         if out:
             click.echo(f"written {out}")
+
+    _run(action)
+
+
+@main.command()
+@click.argument("result_file", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Table file [default: FILE with .csv].")
+@click.option("--csv", "as_csv", is_flag=True, help="Write CSV (the only format; the default).")
+@click.option("--fields", is_flag=True, help="Also write the per-node fields to *_fields.csv.")
+@click.option("--overwrite", is_flag=True, help="Replace existing table files.")
+def export(result_file, output, as_csv, fields, overwrite):
+    """Write the summary table of a result or sweep file (one row per case) as CSV."""
+
+    def action():
+        from . import outputs
+        from .export import export as write_tables
+        from .export import fields_path
+
+        if not os.path.exists(result_file):
+            raise CaseError("file not found; allowed: a result or sweep file written by rollc", file=result_file)
+        out = output or os.path.splitext(result_file)[0] + ".csv"
+        targets = [out] + ([fields_path(out)] if fields else [])
+        for target in targets:
+            outputs.check_output(target, inputs=(result_file,), overwrite=overwrite, kind="table")
+        try:
+            written = write_tables(result_file, out, fields=fields, overwrite=overwrite)
+        except (KeyError, ValueError, IndexError) as err:
+            raise CaseError(f"not a readable rolling_cli result or sweep file ({err})", file=result_file) from None
+        except OSError as err:
+            if isinstance(err, FileNotFoundError) or err.errno is None:
+                raise CaseError(f"not a readable rolling_cli result or sweep file ({err})", file=result_file) from None
+            raise
+        for path in written:
+            click.echo(f"written {path}")
 
     _run(action)
 
@@ -211,21 +289,47 @@ class Progress:
 )
 @click.option("--points", type=click.IntRange(2, 10000), default=41, show_default=True, help="Points of --curve.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Sweep file (.h5).")
-@click.option("--workers", type=click.IntRange(1, 256), default=None, help="Worker processes [default: one per core].")
-@click.option("--resume", is_flag=True, help="Skip the cases already in the output file.")
+@click.option(
+    "--workers", type=click.IntRange(1, 256), default=None, help="Worker processes [default: the usable CPUs]."
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    help="Run on a Dask cluster: tcp://HOST:PORT, or local:N for a local cluster of N workers.",
+)
+@click.option("--resume", is_flag=True, help="Continue the output file: skip the cases already in it.")
+@click.option("--overwrite", is_flag=True, help="Replace an existing output file (and figure).")
 @click.option("--no-warm-start", is_flag=True, help="Start every case cold (for comparison).")
 @click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
 @click.option("--plot", "make_plot", is_flag=True, help="Also write a PNG figure beside the sweep file.")
 @click.pass_context
-def sweep(ctx, case_file, settings, zipped, curve, points, output, workers, resume, no_warm_start, no_cache, make_plot):
+def sweep(
+    ctx,
+    case_file,
+    settings,
+    zipped,
+    curve,
+    points,
+    output,
+    workers,
+    scheduler,
+    resume,
+    overwrite,
+    no_warm_start,
+    no_cache,
+    make_plot,
+):
     """Solve CASE_FILE for every combination of swept values (or its [sweep] table)."""
 
     def action():
+        from . import outputs
         from . import sweep as sweeps
         from .case import load_case
         from .case.io import read_toml
 
         base = load_case(case_file)
+        if workers and scheduler:
+            raise CaseError("--workers and --scheduler: choose one; allowed: local processes or a Dask cluster")
         if curve:
             spec = sweeps.curve_spec(base, curve, points)
         elif settings:
@@ -238,6 +342,9 @@ def sweep(ctx, case_file, settings, zipped, curve, points, output, workers, resu
                 )
             spec = sweeps.spec_from_table(table, case_file)
         out = output or Path(case_file).with_suffix("").name + "_sweep.h5"
+        figure = outputs.figure_path(out) if make_plot else None
+        if figure:
+            outputs.check_output(figure, inputs=(case_file, out), overwrite=overwrite or resume, kind="figure")
         count = workers or sweeps.default_workers()
         signal.signal(signal.SIGTERM, _terminate)
         try:
@@ -250,21 +357,26 @@ def sweep(ctx, case_file, settings, zipped, curve, points, output, workers, resu
                 warm=not no_warm_start,
                 use_cache=not no_cache,
                 progress=None if ctx.obj["quiet"] else Progress(),
+                overwrite=overwrite,
+                scheduler=scheduler,
+                command=_command(),
             )
         except KeyboardInterrupt:
             _fail(f"interrupted: the cases finished so far are in {out} (continue with --resume)", 130)
-        if make_plot:
+        if figure:
             from .plot import plot_file
 
-            plot_file(out, os.path.splitext(out)[0] + ".png")
+            plot_file(out, figure)
+        where = f"on {scheduler}" if scheduler else f"with {count} worker(s)"
         if not ctx.obj["quiet"]:
             click.echo(sweeps.summary_table(report, spec.keys))
             click.echo(
-                f"  {len(report.records)} cases solved ({report.skipped} already in the file), "
-                f"{len(report.failed)} failed, {report.seconds:.2f} s with {count} worker(s); written {out}"
+                f"  {report.solved} cases solved ({report.skipped} already in the file), "
+                f"{int(report.failed_mask.sum())} failed, {report.seconds:.2f} s {where}; written {out}"
             )
-        if report.failed:
-            _fail(f"{len(report.failed)} of {len(report.records)} cases failed; their reasons are in {out}", 1)
+        failed = int(report.failed_mask.sum())
+        if failed:
+            _fail(f"{failed} of {report.solved} cases failed; their reasons are in {out}", 1)
 
     _run(action)
 

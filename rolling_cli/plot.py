@@ -5,9 +5,12 @@
   left blank), and the Hertz/Carter references when the file has them. x is
   centred on the contact and scaled by its half-width a; p0 is the peak
   pressure (the curves of a tyred cylinder are centred as the paper does).
-* A sweep: the traction curves of every case, labelled by the swept values
-  (the paper's Fig. 4 and 8); when a tangential quantity is swept, also the
-  creep-force curve Q/(mu P) against the creepage.
+* A sweep: the traction curves of its cases (at most 12, evenly picked),
+  labelled by the swept values (the paper's Fig. 4 and 8); when a tangential
+  quantity is swept, also the creep-force curve Q/(mu P) against the creepage.
+
+Files of format 1 are converted to the current layout first
+(:mod:`rolling_cli.legacy`), so one reader serves both.
 
 Figures are built with matplotlib's object API on the Agg canvas (no screen
 needed); :func:`plot_file` returns the Figure so tests can inspect it.
@@ -15,7 +18,6 @@ needed); :func:`plot_file` returns the Figure so tests can inspect it.
 
 from __future__ import annotations
 
-import json
 import os
 
 import h5py
@@ -24,7 +26,9 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from .io_hdf5 import read_group
+from . import outputs
+from .legacy import converted
+from .reader import case_table, is_sweep, read_case, swept_names, version
 from .result import Result
 
 COLOURS = {"adhesion": "#cfe3f5", "slip": "#fbe0c4"}
@@ -103,23 +107,20 @@ def result_figure(result: Result, show: bool = False) -> Figure:
     return fig
 
 
-def sweep_figure(path: str, show: bool = False) -> Figure:
-    """The sweep figure: every case's tractions, and the creep-force curve when a tangential key is swept."""
-    with h5py.File(path, "r") as handle:
-        keys = json.loads(handle.attrs["sweep_keys"])
-        results, labels = [], []
-        for name in sorted(handle["cases"]):
-            group = handle["cases"][name]
-            if not bool(group.attrs.get("converged", False)) or "x" not in group:
-                continue
-            results.append(read_group(group))
-            labels.append(", ".join(f"{k.split('.')[-1]} = {_fmt(group.attrs[k])}" for k in keys))
-        summary = {name: handle["summary"][name][()] for name in handle["summary"]}
+def sweep_figure(handle, show: bool = False) -> Figure:
+    """The sweep figure of an open format-2 file: the tractions of (at most 12 of) its converged
+    cases, and the creep-force curve when a tangential key is swept."""
+    names = swept_names(handle)
+    keys = list(names)
+    table = case_table(handle, ["converged", "creep", "q_over_mu_p", *names.values()])
+    rows = np.flatnonzero(table["converged"]) if "converged" in table else np.array([], dtype=int)
+    step = int(np.ceil(len(rows) / 12)) if len(rows) > 12 else 1  # at most 12 curves stay readable
+    results = [read_case(handle, int(row)) for row in rows[::step]]
+    labels = [", ".join(f"{k.split('.')[-1]} = {_fmt(table[names[k]][row])}" for k in keys) for row in rows[::step]]
     curve = any(k in TANGENTIAL_KEYS for k in keys)
     fig = _figure(show, figsize=(12 if curve else 8, 5), layout="constrained")
     ax = fig.add_subplot(1, 2 if curve else 1, 1)
-    step = int(np.ceil(len(results) / 12)) if len(results) > 12 else 1  # at most 12 curves stay readable
-    shown = list(zip(results, labels, strict=True))[::step]
+    shown = list(zip(results, labels, strict=True))
     colours = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.9, max(len(shown), 1)))
     for (result, label), colour in zip(shown, colours, strict=False):
         centre, a, p0 = _scales(result)
@@ -127,15 +128,15 @@ def sweep_figure(path: str, show: bool = False) -> Figure:
         ax.plot((result.x - centre) / a, result.p_t / (mu * p0), lw=1.4, color=colour, label=label)
     ax.set_xlabel(r"$(x - x_c)/a$ [-]")
     ax.set_ylabel(r"$p_t/(\mu p_0)$ [-]")
-    ax.set_title(f"{len(results)} cases, swept: {', '.join(keys)}", fontsize=9)
+    ax.set_title(f"{len(rows)} cases, swept: {', '.join(keys)}", fontsize=9)
     if shown:
         ax.legend(fontsize=7)
     ax.grid(True, alpha=0.3)
     if curve:
         ax2 = fig.add_subplot(1, 2, 2)
-        ok = summary["converged"].astype(bool)
-        order = np.argsort(summary["creep"][ok])
-        ax2.plot(summary["creep"][ok][order], summary["q_over_mu_p"][ok][order], "o-", ms=3)
+        creep, q = table["creep"][rows], table["q_over_mu_p"][rows]
+        order = np.argsort(creep)
+        ax2.plot(creep[order], q[order], "o-", ms=3)
         ax2.set_xlabel(r"creepage $\xi = (V_A - V_B)/|V|$ [-]")
         ax2.set_ylabel(r"$Q/(\mu P)$ [-]")
         ax2.set_title("creep-force curve", fontsize=9)
@@ -153,23 +154,18 @@ def _fmt(value) -> str:
     return str(value)
 
 
-def is_sweep(path: str) -> bool:
-    with h5py.File(path, "r") as handle:
-        fmt = handle.attrs.get("format")
-    return (fmt.decode() if isinstance(fmt, bytes) else fmt) == "rolling_cli.sweep"
-
-
 def plot_file(path: str, output: str | None = None, show: bool = False) -> Figure:
-    """Plot a result or sweep file; write ``output`` (.png, .pdf or .svg) and/or show it."""
-    if output and os.path.splitext(output)[1].lower() not in FORMATS:
+    """Plot a result or sweep file (any format version); write ``output`` (.png, .pdf or .svg,
+    under a temporary name, then renamed) and/or show it."""
+    ext = os.path.splitext(output)[1].lower() if output else ""
+    if output and ext not in FORMATS:
         raise ValueError(f"{output}: unsupported figure format; allowed: {', '.join(FORMATS)}")
-    if is_sweep(path):
-        fig = sweep_figure(path, show)
-    else:
-        with h5py.File(path, "r") as handle:
-            fig = result_figure(read_group(handle), show)
+    with converted(path) as source, h5py.File(source, "r") as handle:
+        version(handle)
+        fig = sweep_figure(handle, show) if is_sweep(handle) else result_figure(read_case(handle, 0), show)
     if output:
-        fig.savefig(output, dpi=150)
+        with outputs.atomic_file(output, replace=True) as tmp:
+            fig.savefig(tmp, format=ext[1:], dpi=150)
     if show:
         import matplotlib.pyplot as plt
 

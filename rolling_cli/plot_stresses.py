@@ -16,8 +16,9 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from .errors import CaseError
-from .io_hdf5 import read_group
+from .io_hdf5 import read_result
 from .plot import COLOURS, FORMATS, _figure
+from .reader import is_sweep
 from .result import Result
 
 #: Filled contour levels per map (at most; rounded to nice values).
@@ -97,14 +98,11 @@ def plot_stress_file(path: str, output: str | None = None, show: bool = False) -
     Raises :class:`~rolling_cli.errors.CaseError` for a sweep file or a result without stresses.
     """
     with h5py.File(path, "r") as handle:
-        fmt = handle.attrs.get("format")
-        if (fmt.decode() if isinstance(fmt, bytes) else fmt) != "rolling_cli.result":
+        if is_sweep(handle):
             raise CaseError("--stresses: not a single result; allowed: a file written by rollc solve", file=path)
-        if "stresses" not in handle:
-            raise CaseError(
-                "--stresses: the result holds no stresses; allowed: a case with a [stresses] table", file=path
-            )
-        result = read_group(handle)
+    result = read_result(path)
+    if not result.stresses:
+        raise CaseError("--stresses: the result holds no stresses; allowed: a case with a [stresses] table", file=path)
     fig = stress_figure(result, show)
     if output:
         if not output.lower().endswith(FORMATS):

@@ -11,12 +11,15 @@ contact nodes in the Newton system, m the size of the reduced Newton matrix):
 * **half-plane influence** (:mod:`~rolling_cli.influence.halfplane`):
   S_nn and S_tt (= -S_nn), plus the shared S_nt = S_tn when coupled:
   (2 + coupled) n^2.
-* **BEM body** (:mod:`~rolling_cli.influence.bem`), the larger of
-  assembly, 36 N E + 10 N^2 (the element-node integrals of H and G, 12 N E
-  each, their scatter copy, H, and G's scatter buffers), and condensation,
-  20 N^2 + 8 N n (H, G, the system A and B, A's LAPACK copy, two copies of
-  the 2 n right-hand sides), plus :data:`BEM_CHUNK` for the vectorised
-  quadrature of one chunk; then 4 n^2 (its four blocks) are kept.
+* **BEM body** (:mod:`~rolling_cli.influence.bem`), split into its two
+  mirror halves (every body the model meshes is its own mirror image; one
+  that is not would need the whole system, twice this), the larger of
+  assembly, 2 N^2 + 2 N (n + 1) (each half's system A, N x N, and its
+  right-hand sides, N x (n + 1), factorised and solved in place) plus the
+  element integrals of one block and their temporaries,
+  :data:`BEM_BLOCK_TEMPORARIES` min(12 N E, :data:`BEM_BLOCK`), and
+  condensation, 2 N (n + 1) + 4 n^2 (the solutions and the four blocks);
+  then 4 n^2 (its four blocks) are kept.
 * **pair and system**: the pair blocks (2 + 2 coupled) n^2 for BEM (the
   half-plane blocks are the pair's already), and B_tt (+ B_tn) n^2; the
   "element" slip derivative adds 2 n^2 of temporaries while it is built.
@@ -37,7 +40,7 @@ potential zone is enlarged (the first one's influence stays memoised), the
 workers (pass ``copies``).
 
 The work is a rough count of floating-point operations: BEM assembly
-(:data:`KERNEL_FLOPS` per quadrature point and node-element pair), LU
+(:data:`BEM_PAIR_FLOPS` per collocation node and element), LU
 factorisations (2/3 k^3) and :data:`NEWTON_ITERATIONS` Newton iterations.
 When a change makes the code allocate differently (issue #14: a matrix-free
 half-plane path), update the stage functions here and the measurement test
@@ -62,16 +65,17 @@ ALLOCATOR_MARGIN = 1.2
 #: Newton iterations assumed by the work estimate (the test cases take 2-15).
 NEWTON_ITERATIONS = 10
 
-#: Floating-point operations per quadrature point of one BEM collocation-element
-#: pair (Kelvin's 2x2 U and T kernels and the contraction with 3 shape functions).
-KERNEL_FLOPS = 150
+#: Floating-point operations per BEM collocation node and element (a rough mean: most
+#: pairs are collinear, in closed form; the others take 10-point Gauss rules).
+BEM_PAIR_FLOPS = 300
 
-#: Gauss points per regular BEM element (``influence.bem.assembly.GAUSS``).
-BEM_GAUSS = 10
+#: Doubles of one block of BEM element integrals, H and G (``influence.bem.assembly.BLOCK``).
+BEM_BLOCK = 1.0e6
 
-#: Temporaries of one vectorised BEM quadrature chunk [doubles] (the chunk is
-#: ``influence.bem.assembly._CHUNK`` quadrature points; measured on small meshes).
-BEM_CHUNK = 1.5e6
+#: A block's integrals with their temporaries (the collinear closed forms, the Gauss rules' chunks of
+#: ``influence.bem.assembly._CHUNK`` points, the additions), over the block's size: measured 2.1-2.9
+#: from 120 to 800 contact elements, half-space and layer.
+BEM_BLOCK_TEMPORARIES = 2.6
 
 #: Element growth of the BEM mesh away from the zone (``influence.bem.mesh.rectangle``).
 BEM_GROWTH = 1.4
@@ -176,9 +180,11 @@ def _influence(case, the_plan) -> tuple[list[tuple[str, float]], float, int, str
     for label in _computed_bodies(case, the_plan):
         body = getattr(case.bodies, label)
         big_n, big_e = body_mesh_size(case, the_plan, body)
-        peak = max(36.0 * big_n * big_e + 10.0 * big_n**2, 20.0 * big_n**2 + 8.0 * big_n * n) + BEM_CHUNK
-        stages.append((f"the BEM influence of body {label}", kept + peak))
-        flops += big_n * big_e * BEM_GAUSS * KERNEL_FLOPS + (2.0 / 3.0) * (2.0 * big_n) ** 3 + 8.0 * big_n**2 * n
+        block = BEM_BLOCK_TEMPORARIES * min(12.0 * big_n * big_e, BEM_BLOCK)
+        assembly = 2.0 * big_n**2 + 2.0 * big_n * (n + 1) + block  # two halves of N unknowns each
+        condensation = 2.0 * big_n * (n + 1) + 4.0 * n**2
+        stages.append((f"the BEM influence of body {label}", kept + max(assembly, condensation)))
+        flops += 0.5 * big_n * big_e * BEM_PAIR_FLOPS + (4.0 / 3.0) * big_n**3 + 4.0 * big_n**2 * n
         kept += 4 * n**2
         if big_n > boundary:
             boundary = big_n

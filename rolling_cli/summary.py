@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 
+from .adapt.levels import summary_line
 from .result import Result
 from .stresses import power
 
@@ -59,6 +60,11 @@ def summary(result: Result, output: str | None = None) -> str:
         if name == "separation":
             continue
         lines.append(f"  {name:<14} x = {start:.5g} .. {end:.5g} {length}")
+    accuracy = summary_line(attrs)
+    if accuracy:
+        lines.append(accuracy)
+        if attrs.get("adaptive_note"):
+            lines.append(f"  WARNING        {attrs['adaptive_note']}")
     if attrs.get("error_estimate_note"):
         lines.append(f"  error estimate {attrs['error_estimate_note']}")
     elif "error_estimate" in attrs:

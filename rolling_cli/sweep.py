@@ -1,200 +1,125 @@
 """Parameter studies: many solves of one case with some dotted keys varied.
 
-Stages: a :class:`SweepSpec` (from ``--set KEY=VALUES`` or the case's
-``[sweep]`` table) -> :func:`expand` (every case built and validated before the
-first solve) -> chunks of neighbouring cases -> solves (serial, or chunks in
-worker processes) -> one HDF5 file, updated after every finished case.
+Stages: a :class:`~rolling_cli.sweep_spec.SweepSpec` (``--set KEY=VALUES``,
+the case's ``[sweep]`` table, ``--curve``) -> checks before any solve (the
+output path, the disk space, the cases: :mod:`rolling_cli.sweep_spec`) ->
+the swept values in sweep order, cut into chunks of neighbouring cases that
+define one contact system (nothing built yet) -> each chunk built and solved
+where it runs (:func:`solve_items`: serially, in local worker processes or on
+a Dask cluster) -> the single writer (:class:`~rolling_cli.writer.ResultFile`),
+which appends rows to the file.
 
 Reuse. Neighbouring cases that share geometry, materials and mesh share one
 contact system (influence, slip operator, penalties) and each solve starts
 from its neighbour's converged state (warm start). Chunks never depend on the
-worker count, and BLAS runs one thread per process in both the serial and the
-parallel sweep (:mod:`rolling_cli.blas`), so ``--workers N`` computes exactly
-what the serial run computes.
+worker count, and BLAS runs one thread in the serial run, the workers and
+the cluster tasks alike (:mod:`rolling_cli.blas`), so any parallel run
+computes exactly what the serial run computes. Records come back in chunk
+order (a bounded reorder buffer), so the file's rows are in sweep order.
 
-Output layout (format "rolling_cli.sweep"): root attributes (provenance, the
-base case, the sweep), one group ``cases/NNNN`` per case in the single-result
-layout with the swept values as attributes named by their dotted keys, and a
-``summary`` group with one dataset per column. Every update writes a temporary
-copy and renames it, so the file on disk is always complete: an interrupted
-sweep leaves the cases finished so far, and ``--resume`` continues from them.
+Files. The output is locked for the run, checked before anything is solved,
+and written by appending rows (at most every :data:`FLUSH_SECONDS`, and on
+exit): a kill at any moment leaves a file that opens, holding the cases
+committed so far, and ``--resume`` (which first checks that the file holds
+this base case and this sweep) completes it. Ctrl-C and SIGTERM keep every
+case finished in a worker; those rows may then be out of sweep order (the
+``case`` coordinate always says which case a row is).
 """
 
 from __future__ import annotations
 
+import collections
 import concurrent.futures
 import contextlib
+import functools
 import itertools
 import json
-import math
-import multiprocessing
 import os
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import h5py
 import numpy as np
 
-from . import __version__, blas, pipeline
-from .case import Case, case_to_dict, case_to_toml, with_overrides
-from .case.validate import convert_scalar, field_metadata
+from . import blas, outputs, pipeline
+from . import workers as local_workers
+from .case import Case, case_to_toml
 from .errors import CaseError, GrossSlidingError, RollingError
-from .io_hdf5 import atomic_h5, write_group
+from .io_hdf5 import root_attributes
 from .path import CasePath
-from .references import carter
+from .reader import plain
+from .resources import check_resources as check_memory
 from .result import utc_timestamp
-from .stresses.report import SWEEP_COLUMNS, sweep_columns
+from .rows import row_from_failure, row_from_result
+from .sweep_spec import (  # noqa: F401  (the sweep API: specifications live in sweep_spec)
+    Linspace,
+    SweepSpec,
+    build,
+    check_resources,
+    curve_spec,
+    difference,
+    parse_values,
+    spec_from_options,
+    spec_from_table,
+    validate,
+)
+from .writer import ResultFile
 
-FORMAT = "rolling_cli.sweep"
-FORMAT_VERSION = 1
 #: Cases per chunk: the unit of warm starting and of work given to a process.
 CHUNK = 8
-SUMMARY_COLUMNS = ("converged", "q_over_mu_p", "creep", "normal_load", "tangential_load", "iterations", "time")
 
 
-@dataclass(frozen=True)
-class SweepSpec:
-    """Dotted keys and their values; ``zipped`` pairs them, else their cartesian product."""
-
-    keys: tuple[str, ...]
-    values: tuple[tuple, ...]
-    zipped: bool = False
-
-    def combinations(self) -> list[dict[str, Any]]:
-        """One {key: value} per case, in sweep order."""
-        if self.zipped:
-            lengths = {len(v) for v in self.values}
-            if len(lengths) > 1:
-                raise CaseError(
-                    f"sweep: --zip needs equally many values per key, got "
-                    f"{', '.join(f'{k}: {len(v)}' for k, v in zip(self.keys, self.values, strict=True))}; "
-                    "allowed: lists of one length"
-                )
-            rows = zip(*self.values, strict=True)
-        else:
-            rows = itertools.product(*self.values)
-        return [dict(zip(self.keys, row, strict=True)) for row in rows]
-
-    def describe(self) -> str:
-        return json.dumps({"keys": list(self.keys), "values": [list(v) for v in self.values], "zip": self.zipped})
+#: Seconds between two commits of the sweep file (the end of a sweep always commits);
+#: ``ROLLC_FLUSH_SECONDS`` sets it (smaller: less lost to a kill, more commits).
+def _seconds(text: str | None, default: float) -> float:
+    try:
+        value = float(text) if text is not None else default
+    except ValueError:
+        return default
+    return value if value >= 0.0 else default
 
 
-def parse_values(key: str, text: str, source: str = "--set") -> tuple:
-    """Values of one swept key: a comma list or a range start:stop:count (inclusive, evenly spaced).
-
-    Each value is converted and checked by the key's schema rules.
-    """
-    meta = field_metadata(key)
-    if not meta or meta.get("kind") == "table":
-        raise CaseError(f"{source} {key}={text}: unknown case key; allowed: a dotted scalar key such as friction.mu")
-    text = text.strip()
-    if text.count(":") == 2 and "," not in text:
-        start, stop, count = text.split(":")
-        try:
-            n = int(count)
-            raw = list(np.linspace(float(start), float(stop), n))
-        except ValueError:
-            raise CaseError(
-                f"{source} {key}={text}: not a range; allowed: start:stop:count with numbers and an integer count"
-            ) from None
-        if n < 1:
-            raise CaseError(f"{source} {key}={text}: count {n}; allowed: a count >= 1")
-        if meta.get("kind") == "int":
-            raw = [round(v) for v in raw]
-    else:
-        raw = [_literal(part.strip()) for part in text.split(",") if part.strip()]
-    if not raw:
-        raise CaseError(f"{source} {key}={text}: no values; allowed: a comma list or start:stop:count")
-    return tuple(convert_scalar(v, meta, key, None) for v in raw)
+FLUSH_SECONDS = _seconds(os.environ.get("ROLLC_FLUSH_SECONDS"), 1.0)
+#: The largest share of a sweep's time its commits may take (they are spaced out to keep it), the
+#: longest time between two commits, and the most array bytes finished rows may hold before one.
+COMMIT_SHARE = 0.02
+MAX_SECONDS = 10.0
+PENDING_BYTES = 16 << 20
+#: Seconds an interrupted parallel sweep waits for its workers' finished cases.
+STOP_SECONDS = 30.0
+#: Rows of the end-of-sweep table shown at its head and tail (all of them up to twice this).
+TABLE_ROWS = 50
 
 
-def _literal(text: str) -> Any:
-    for cast in (int, float):
-        try:
-            return cast(text)
-        except ValueError:
-            pass
-    return text.strip('"')
-
-
-def spec_from_options(settings: list[str], zipped: bool) -> SweepSpec:
-    """From the CLI's ``--set KEY=VALUES`` options."""
-    keys, values = [], []
-    for item in settings:
-        if "=" not in item:
-            raise CaseError(f"--set {item}: no '='; allowed: KEY=VALUES, for example friction.mu=0.1,0.2")
-        key, text = item.split("=", 1)
-        keys.append(key.strip())
-        values.append(parse_values(key.strip(), text))
-    return SweepSpec(tuple(keys), tuple(values), zipped)
-
-
-def spec_from_table(table: dict, file: str | None) -> SweepSpec:
-    """From a case's ``[sweep]`` table: ``"friction.mu" = [0.1, 0.2]`` or ``"0.1:0.4:4"``; ``zip = true``."""
-    zipped = bool(table.get("zip", False))
-    keys, values = [], []
-    for key, raw in table.items():
-        if key == "zip":
-            continue
-        where = f"{file + ': ' if file else ''}sweep.{key}"
-        if isinstance(raw, str):
-            values.append(parse_values(key, raw, where))
-        elif isinstance(raw, list) and raw:
-            meta = field_metadata(key)
-            if not meta or meta.get("kind") == "table":
-                raise CaseError(
-                    f"{where} = {raw!r}: unknown case key; allowed: a dotted scalar key such as friction.mu"
-                )
-            values.append(tuple(convert_scalar(v, meta, key, file) for v in raw))
-        else:
-            raise CaseError(f"{where} = {raw!r}: wrong type; allowed: a non-empty list or a 'start:stop:count' string")
-        keys.append(key)
-    if not keys:
-        raise CaseError(f"{file + ': ' if file else ''}sweep: empty; allowed: dotted keys with lists of values")
-    return SweepSpec(tuple(keys), tuple(values), zipped)
-
-
-def curve_spec(base: Case, kind: str, points: int) -> SweepSpec:
-    """The creep-force curve: Q/(mu P) from -0.99 to 0.99, or the creepage over +-1.5 times full slip."""
-    if base.friction.mu <= 0.0:
-        raise CaseError(f"{base.source or 'case'}: friction.mu = 0: no creep-force curve without friction")
-    if kind == "load":
-        return SweepSpec(("tangential.q_over_mu_p",), (tuple(np.linspace(-0.99, 0.99, points)),))
-    the_plan = pipeline.measured_plan(base)
-    full = carter.full_slip_creepage(the_plan.half_width, the_plan.radius, base.friction.mu)
-    return SweepSpec(("tangential.creep",), (tuple(np.linspace(-1.5 * full, 1.5 * full, points)),))
-
-
-def expand(base: Case, spec: SweepSpec) -> list[tuple[dict, Case]]:
-    """Every swept case, built and validated before anything is solved."""
-    out = []
-    for combo in spec.combinations():
-        try:
-            out.append((combo, with_overrides(base, combo)))
-        except CaseError as err:
-            shown = ", ".join(f"{k} = {v!r}" for k, v in combo.items())
-            raise CaseError(f"sweep case ({shown}): {err}") from None
-    return out
-
-
-def system_key(case: Case) -> str:
+def system_key(case: Case) -> tuple:
     """What a case's contact system depends on: neighbours with equal keys share it."""
-    data = case_to_dict(case)
-    keep = {k: data.get(k) for k in ("bodies", "normal", "rolling", "discretization", "effects")}
-    keep["penalty"] = data.get("solver", {}).get("penalty")
-    keep["frictionless"] = case.friction.mu == 0.0
-    return json.dumps(keep, sort_keys=True, default=str)
+    parts = (case.bodies, case.normal, case.rolling, case.discretization, case.effects)
+    return (*parts, case.solver.penalty, case.friction.mu == 0.0)
 
 
-def chunks(items: list[tuple[int, dict, Case]]) -> list[list[tuple[int, dict, Case]]]:
-    """Runs of neighbouring cases with one contact system, cut into pieces of at most :data:`CHUNK`."""
-    out: list[list] = []
+#: Sections of a case whose keys define the contact system (with solver.penalty and mu = 0 or not).
+SYSTEM_SECTIONS = ("bodies", "normal", "rolling", "discretization", "effects")
+
+
+def combo_key(combo: dict) -> tuple:
+    """:func:`system_key` of a swept case from its swept values alone (the rest is the base case's):
+    equal keys, one contact system. Lets cases be grouped without building them."""
+    key = []
+    for dotted, value in combo.items():
+        if dotted.split(".")[0] in SYSTEM_SECTIONS or dotted == "solver.penalty":
+            key.append((dotted, value))
+        elif dotted == "friction.mu":
+            key.append((dotted, value == 0.0))
+    return tuple(key)
+
+
+def chunks(items: Iterable[tuple[int, dict, Case]]) -> Iterator[list[tuple[int, dict, Case]]]:
+    """Runs of neighbouring cases with one contact system, cut into pieces of at most :data:`CHUNK` (lazily)."""
     for _, group in itertools.groupby(items, key=lambda item: system_key(item[2])):
-        group = list(group)
-        out.extend(group[i : i + CHUNK] for i in range(0, len(group), CHUNK))
-    return out
+        while piece := list(itertools.islice(group, CHUNK)):
+            yield piece
 
 
 @dataclass
@@ -209,6 +134,7 @@ class Record:
 
     @property
     def converged(self) -> bool:
+        """Solved and converged."""
         return self.result is not None and bool(self.result.attributes.get("converged"))
 
 
@@ -219,7 +145,8 @@ def solve_chunk(chunk: list[tuple[int, dict, Case]], warm: bool, use_cache: bool
     for index, values, case in chunk:
         start_time = time.perf_counter()
         try:
-            if path is None:
+            if path is None:  # one contact system per chunk: its memory is checked before it is built
+                check_memory(case)
                 path = CasePath(pipeline.prepare(case, use_cache)[1], warm, use_cache)
             result = path.solve(case, values)
             yield Record(index, values, result, "", time.perf_counter() - start_time)
@@ -227,53 +154,160 @@ def solve_chunk(chunk: list[tuple[int, dict, Case]], warm: bool, use_cache: bool
             yield Record(index, values, None, str(err), time.perf_counter() - start_time)
 
 
-def _worker(chunk, warm, use_cache):
-    return list(solve_chunk(chunk, warm, use_cache))
-
-
 def default_workers() -> int:
-    """One process per core (this machine: 2)."""
-    return max(1, os.cpu_count() or 1)
+    """The CPUs this process may use (its affinity set; a batch scheduler's allocation)."""
+    return local_workers.default_count()
+
+
+def _todo(spec: SweepSpec, done: np.ndarray) -> Iterator[list[tuple[int, dict]]]:
+    """The cases still to solve as chunks of (index, swept values): runs of one contact system
+    (:func:`combo_key`), cut into pieces of at most :data:`CHUNK`; nothing is built here."""
+    items = ((i, spec.combination(i)) for i in range(spec.size) if not done[i])
+    for _, group in itertools.groupby(items, key=lambda item: combo_key(item[1])):
+        while piece := list(itertools.islice(group, CHUNK)):
+            yield piece
+
+
+def solve_items(base: Case, items: list[tuple[int, dict]], warm: bool, use_cache: bool) -> Iterator[Record]:
+    """Build the cases of a chunk and solve them with :func:`solve_chunk`; a case that fails to
+    build (a large sweep validates only its values and corners up front) is a failed record, and
+    the warm-start chain restarts after it. Runs where the chunk runs: in this process, a worker
+    process or a cluster task."""
+    run: list[tuple[int, dict, Case]] = []
+    for index, combo in items:
+        try:
+            run.append((index, combo, build(base, combo)))
+        except CaseError as err:
+            yield from solve_chunk(run, warm, use_cache)
+            run = []
+            yield Record(index, combo, None, str(err), 0.0)
+    yield from solve_chunk(run, warm, use_cache)
 
 
 @dataclass
 class SweepReport:
-    """All records of a sweep (including resumed ones) and timings."""
+    """What a run did: counts, timings, the rows of the end table, and the cases by index
+    (:attr:`records`, read from the file on demand, so memory does not grow with the sweep)."""
 
-    records: dict[int, Record] = field(default_factory=dict)
+    output: str
+    keys: tuple[str, ...]
+    total: int
     skipped: int = 0
     seconds: float = 0.0
+    solve_seconds: float = 0.0
+    write_seconds: float = 0.0
+    solved_mask: np.ndarray = None
+    failed_mask: np.ndarray = None
+    head: list = field(default_factory=list)
+    tail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=TABLE_ROWS))
+
+    def __post_init__(self) -> None:
+        self.solved_mask = np.zeros(self.total, dtype=bool)
+        self.failed_mask = np.zeros(self.total, dtype=bool)
+
+    @property
+    def solved(self) -> int:
+        """Cases solved (or failed) in this run."""
+        return int(self.solved_mask.sum())
+
+    @property
+    def records(self) -> Mapping[int, Record]:
+        """The cases of this run by index, read from the output file."""
+        return FileRecords(self.output, self.solved_mask, self.keys)
 
     @property
     def failed(self) -> list[Record]:
-        return [r for r in self.records.values() if not r.converged]
+        """The failed cases of this run, read from the output file."""
+        records = FileRecords(self.output, self.failed_mask, self.keys)
+        return [records[i] for i in records]
+
+    def note(self, record: Record) -> None:
+        """Count a finished record (and keep what the end table shows of it)."""
+        self.solved_mask[record.index] = True
+        self.failed_mask[record.index] = not record.converged
+        self.solve_seconds += record.seconds
+        if len(self.head) < TABLE_ROWS:
+            self.head.append(_table_entry(record))
+        else:
+            self.tail.append(record)  # the last TABLE_ROWS records, formatted at the end
 
 
-def existing_indices(path: str, combos: list[dict]) -> set[int]:
-    """Cases already in a sweep file; raises when the file holds a different sweep."""
-    if not os.path.exists(path):
-        return set()
-    with h5py.File(path, "r") as handle:
-        if handle.attrs.get("format") != FORMAT or "cases" not in handle:
-            raise CaseError(f"{path}: not a {FORMAT} file; allowed: --resume on a sweep file written by rollc sweep")
-        found = set()
-        for name, group in handle["cases"].items():
-            index = int(name)
-            expected = combos[index] if index < len(combos) else None
-            stored = {k: group.attrs.get(k) for k in (expected or {})}
-            if expected is None or any(not _same(stored[k], v) for k, v in expected.items()):
-                raise CaseError(
-                    f"{path}: case {name} holds other swept values ({stored}); "
-                    "allowed: --resume with the sweep that wrote the file"
-                )
-            found.add(index)
-    return found
+class FileRecords(Mapping):
+    """Records of the cases marked in ``mask``, read from the sweep file when asked for."""
+
+    def __init__(self, path: str, mask: np.ndarray, keys: tuple[str, ...]) -> None:
+        self.path, self.mask, self.keys = path, mask, keys
+        self._rows: dict[int, int] | None = None
+
+    def __len__(self) -> int:
+        return int(self.mask.sum())
+
+    def __iter__(self):
+        return iter(np.flatnonzero(self.mask).tolist())
+
+    def __getitem__(self, index: int) -> Record:
+        from .reader import case_table, read_case
+
+        if not (0 <= index < self.mask.size and self.mask[index]):
+            raise KeyError(index)
+        with h5py.File(self.path, "r") as handle:
+            if self._rows is None:
+                self._table = case_table(handle)  # read once for all the records asked for
+                self._rows = {int(c): r for r, c in enumerate(self._table["case"])}
+            row = self._rows[index]
+            result = read_case(handle, row, self._table)
+            solved = int(handle["nodes"][row]) > 0
+        attrs = result.attributes
+        values = {k: attrs.get(k) for k in self.keys}
+        return Record(index, values, result if solved else None, attrs.get("message", ""), attrs.get("time", 0.0))
 
 
-def _same(a, b) -> bool:
-    if isinstance(b, float) or isinstance(a, float):
-        return a is not None and float(a) == float(b)
-    return (a.decode() if isinstance(a, bytes) else a) == b
+class _Sink:
+    """Takes finished records: to the writer, the report, the progress.
+
+    Commits happen only when a whole chunk has been added (:meth:`chunk_done`):
+    a killed run then leaves whole chunks, and ``--resume`` starts the next
+    chunk from its first case, on the warm-start path of the uninterrupted run,
+    which it therefore reproduces bit for bit. (Ctrl-C and SIGTERM commit the
+    part of a chunk that is finished too.) A commit follows at most every
+    FLUSH_SECONDS, and never sooner than
+    :data:`COMMIT_SHARE` of the time since the last one allows (the writer
+    then costs at most that share of the run, whatever a commit costs here),
+    but at least every :data:`MAX_SECONDS` and whenever the waiting rows hold
+    :data:`PENDING_BYTES` of arrays (memory stays flat, a kill loses little).
+    """
+
+    def __init__(self, writer: ResultFile, report: SweepReport, progress) -> None:
+        self.writer, self.report, self.progress = writer, report, progress
+        self.last = time.monotonic()
+        self.interval = FLUSH_SECONDS
+        self.pending_bytes = 0
+
+    def add(self, record: Record, notify: bool = True) -> None:
+        """A finished record to the writer (committing when due), the report and the progress."""
+        start = time.perf_counter()
+        if record.result is not None:
+            message = record.message or record.result.attributes.get("message", "")
+            row = row_from_result(record.result, record.index, record.values, time=record.seconds, message=message)
+        else:
+            row = row_from_failure(record.index, record.values, record.message, record.seconds)
+        self.writer.add(row)
+        self.report.note(record)
+        self.pending_bytes += sum(array.nbytes for array in row.arrays.values())
+        self.report.write_seconds += time.perf_counter() - start
+        if notify and self.progress:
+            report = self.report
+            self.progress(report.solved + report.skipped, report.total, int(report.failed_mask.sum()))
+
+    def chunk_done(self) -> None:
+        """A whole chunk has been added: commit if one is due."""
+        if time.monotonic() - self.last >= self.interval or self.pending_bytes >= PENDING_BYTES:
+            begun = time.monotonic()
+            self.writer.commit()
+            self.last = time.monotonic()
+            self.interval = min(MAX_SECONDS, max(FLUSH_SECONDS, (self.last - begun) / COMMIT_SHARE))
+            self.pending_bytes = 0
+            self.report.write_seconds += self.last - begun
 
 
 def run(
@@ -285,205 +319,192 @@ def run(
     warm: bool = True,
     use_cache: bool = True,
     progress: Callable[[int, int, int], None] | None = None,
+    overwrite: bool = False,
+    scheduler: str | None = None,
+    command: str | None = None,
 ) -> SweepReport:
-    """Run the sweep into ``output``; returns the report (failures included)."""
+    """Run the sweep into ``output``; returns the report (failures included).
+
+    ``workers`` > 1: local processes; ``scheduler``: a Dask scheduler address
+    or ``local:N``. ``overwrite``: replace an existing file; ``resume``:
+    continue one (refused when it holds another base case or sweep).
+    ``command`` goes into the file's ``history``. Raises CaseError (bad
+    input, output refused or locked), WriteError (the file could not be
+    written: the committed cases stay), KeyboardInterrupt (after committing).
+    """
     t0 = time.perf_counter()
-    cases = expand(base, spec)
-    combos = [combo for combo, _ in cases]
-    done = existing_indices(output, combos) if resume else set()
-    report = SweepReport(skipped=len(done))
-    writer = SweepWriter(output, spec.keys)
-    if resume and os.path.exists(output):
-        writer.load_summary()
-    else:
-        writer.start(base, spec, len(cases))
-    todo = [(i, combo, case) for i, (combo, case) in enumerate(cases) if i not in done]
-
-    def finished(record: Record) -> None:
-        report.records[record.index] = record
-        writer.add(record)
-        if progress:
-            progress(len(report.records) + report.skipped, len(cases), len(report.failed))
-
-    try:
-        if workers <= 1:
-            with blas.single_threaded():
-                for chunk in chunks(todo):
-                    for record in solve_chunk(chunk, warm, use_cache):
-                        finished(record)
-                        writer.flush()
-        else:
-            context = multiprocessing.get_context("spawn")
-            with (
-                _environment(blas.SINGLE_THREAD_ENV),
-                concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool,
-            ):
-                futures = [pool.submit(_worker, chunk, warm, use_cache) for chunk in chunks(todo)]
-                try:
-                    for future in concurrent.futures.as_completed(futures):
-                        for record in future.result():
-                            finished(record)
-                        writer.flush()
-                except BaseException:
-                    for future in futures:
-                        future.cancel()
-                    raise
-    finally:
-        writer.flush(force=True)
-        report.seconds = time.perf_counter() - t0
+    output = os.fspath(output)
+    outputs.check_output(output, inputs=(base.source,), overwrite=overwrite, resume=resume, kind="sweep")
+    check_resources(base, spec, output)
+    validate(base, spec)
+    with outputs.claim(output), _executor(workers, scheduler) as (executor, count, task, stop):
+        for stale in outputs.stale_temps(output):
+            outputs.remove_quietly(stale)
+        writer, done = _open(base, spec, output, resume, overwrite, warm, command)
+        report = SweepReport(output, spec.keys, spec.size, skipped=int(done.sum()))
+        sink = _Sink(writer, report, progress)
+        todo = _todo(spec, done)
+        try:
+            if executor is not None:
+                _parallel(executor, count, todo, functools.partial(task, base), warm, use_cache, sink, stop)
+            else:
+                with blas.single_threaded():
+                    for chunk in todo:
+                        for record in solve_items(base, chunk, warm, use_cache):
+                            sink.add(record)
+                        sink.chunk_done()
+        finally:
+            start = time.perf_counter()
+            writer.close()
+            report.write_seconds += time.perf_counter() - start
+            report.seconds = time.perf_counter() - t0
     return report
 
 
 @contextlib.contextmanager
-def _environment(values: dict[str, str]):
-    """Set environment variables for processes started in the body (the workers inherit them)."""
-    saved = {k: os.environ.get(k) for k in values}
-    os.environ.update(values)
+def _executor(workers: int, scheduler: str | None):
+    """Yields (executor, worker count, chunk task, stop function): a Dask cluster, local processes,
+    or (None, 1, None, None) for the serial run. Entered before the output is opened, so a cluster
+    that cannot be reached leaves no file."""
+    if scheduler:
+        from . import distributed
+
+        with distributed.cluster(scheduler) as (executor, count):
+            yield executor, count, distributed.solve_chunk_task, None
+    elif workers > 1:
+        with blas.single_thread_environment(), local_workers.executor(workers) as pool:
+            yield pool, workers, local_workers.solve_chunk_until_stopped, local_workers.interrupt
+    else:
+        yield None, 1, None, None
+
+
+def _open(base, spec, output, resume, overwrite, warm, command) -> tuple[ResultFile, np.ndarray]:
+    """The writer, and which cases the file already holds (none unless resuming)."""
+    done = np.zeros(spec.size, dtype=bool)
+    line = f"{utc_timestamp()} {command or 'rolling_cli.sweep.run'}"
+    if resume and os.path.exists(output):
+        with h5py.File(output, "r") as handle:
+            attrs = {k: plain(v) for k, v in handle.attrs.items()}
+            why = difference(attrs, case_to_toml(base), spec, warm)
+            if why:
+                raise CaseError(
+                    f"{output}: --resume refused: {why}; allowed: --resume with the case and sweep that wrote it, "
+                    "or --overwrite"
+                )
+            cases = handle["case"][: int(attrs.get("cases_complete", 0))]
+        done[cases] = True
+        writer = ResultFile.open(output)
+        writer.set_attrs(history=f"{writer.attrs.get('history', '')}\n{line}".strip())
+        return writer, done
+    attrs = root_attributes(base.title or "", case_to_toml(base), command)
+    attrs.update(
+        history=line,
+        sweep=spec.describe(),
+        sweep_keys=json.dumps(list(spec.keys)),
+        cases_total=spec.size,
+        warm_start=bool(warm),
+    )
+    writer = ResultFile(output, attrs, spec.keys, spec.size, replace=overwrite)
+    writer.commit()  # the (empty) file exists from here on
+    return writer, done
+
+
+def _parallel(executor, count: int, todo: Iterator[list], task, warm: bool, use_cache: bool, sink: _Sink, stop=None):
+    """Chunks on ``executor`` (at most about two per worker in flight or waiting), records released
+    to ``sink`` in chunk order. On any exception (Ctrl-C, SIGTERM): ``stop`` the workers, keep what
+    they finished, re-raise."""
+    limit = 2 * count + 2
+    inflight: dict = {}
+    waiting: dict[int, list[Record]] = {}
+    next_seq = 0
+    source = enumerate(todo)
+    exhausted = False
     try:
-        yield
-    finally:
-        for key, value in saved.items():
-            if value is None:
-                os.environ.pop(key, None)
-            else:
-                os.environ[key] = value
+        while True:
+            while not exhausted and len(inflight) + len(waiting) < limit:
+                item = next(source, None)
+                if item is None:
+                    exhausted = True
+                    break
+                seq, chunk = item
+                inflight[executor.submit(task, chunk, warm, use_cache)] = seq
+            while next_seq in waiting:
+                records = waiting[next_seq]
+                while records:  # popped before it is added: an exception in add never loses or repeats one
+                    sink.add(records.pop(0))
+                del waiting[next_seq]
+                next_seq += 1
+                sink.chunk_done()
+            if not inflight:
+                if exhausted and not waiting:
+                    return
+                continue
+            finished, _ = concurrent.futures.wait(inflight, return_when=concurrent.futures.FIRST_COMPLETED)
+            for future in finished:
+                waiting[inflight.pop(future)] = future.result()
+    except BaseException:
+        for future in inflight:
+            future.cancel()
+        if stop is not None:
+            stop(executor)
+        running = [f for f in inflight if not f.cancelled()]
+        finished, _ = concurrent.futures.wait(running, timeout=STOP_SECONDS)
+        for future in finished:
+            with contextlib.suppress(Exception):
+                waiting[inflight[future]] = future.result()
+        for seq in sorted(waiting):
+            for record in waiting[seq]:
+                sink.add(record, notify=False)
+        _kill_stragglers(executor)
+        raise
 
 
-class SweepWriter:
-    """Appends finished cases to the sweep file, atomically and at most every :data:`FLUSH_SECONDS`.
-
-    Each flush copies the file, adds the new case groups, rewrites the summary
-    from rows kept in memory and renames the copy over the file: the file on
-    disk is always complete. Ctrl-C and SIGTERM end with a forced flush; a
-    SIGKILL loses at most the cases finished since the last flush.
-    """
-
-    def __init__(self, path: str, keys: tuple[str, ...]) -> None:
-        self.path = path
-        self.keys = keys
-        self.rows: dict[int, dict] = {}
-        self.pending: list[Record] = []
-        self.last = 0.0
-
-    def start(self, base: Case, spec: SweepSpec, total: int) -> None:
-        with atomic_h5(self.path) as handle:
-            handle.attrs["format"] = FORMAT
-            handle.attrs["format_version"] = FORMAT_VERSION
-            handle.attrs["software_version"] = __version__
-            handle.attrs["created"] = utc_timestamp()
-            handle.attrs["case"] = case_to_toml(base)
-            handle.attrs["sweep"] = spec.describe()
-            handle.attrs["sweep_keys"] = json.dumps(list(spec.keys))
-            handle.attrs["cases_total"] = total
-            handle.create_group("cases")
-            self._write_summary(handle)
-        self.last = time.monotonic()
-
-    def load_summary(self) -> None:
-        """The rows of the cases already in the file (for --resume)."""
-        with h5py.File(self.path, "r") as handle:
-            for name, group in handle["cases"].items():
-                self.rows[int(name)] = self._row(dict(group.attrs), {k: group.attrs.get(k) for k in self.keys})
-
-    def add(self, record: Record) -> None:
-        attrs = dict(record.result.attributes) if record.result is not None else {"converged": False}
-        attrs["time"] = record.seconds
-        attrs["message"] = record.message or attrs.get("message", "")
-        self.rows[record.index] = self._row(attrs, record.values)
-        self.pending.append(record)
-
-    def flush(self, force: bool = False) -> None:
-        if not self.pending or (not force and time.monotonic() - self.last < FLUSH_SECONDS):
-            return
-        with atomic_h5(self.path, mode="a") as handle:
-            cases = handle["cases"]
-            for record in self.pending:
-                name = f"{record.index:04d}"
-                if name in cases:
-                    del cases[name]
-                group = cases.create_group(name)
-                if record.result is not None:
-                    write_group(group, record.result)
-                else:
-                    group.attrs["format"] = "rolling_cli.result"
-                    group.attrs["converged"] = False
-                group.attrs["message"] = self.rows[record.index]["message"]
-                group.attrs["time"] = record.seconds
-                for key, value in record.values.items():
-                    group.attrs[key] = value
-            self._write_summary(handle)
-        self.pending.clear()
-        self.last = time.monotonic()
-
-    @staticmethod
-    def _row(attrs: dict, values: dict) -> dict:
-        def get(name, missing):
-            value = attrs.get(name, missing)
-            return value.decode() if isinstance(value, bytes) else value
-
-        return {
-            "values": values,
-            "converged": bool(get("converged", False)),
-            "q_over_mu_p": float(get("q_over_mu_p", math.nan)),
-            "creep": float(get("creep", math.nan)),
-            "normal_load": float(get("normal_load", math.nan)),
-            "tangential_load": float(get("tangential_load", math.nan)),
-            "iterations": int(get("iterations", -1)),
-            "time": float(get("time", math.nan)),
-            "message": str(get("message", "")),
-            "extra": sweep_columns(attrs),  # stress maxima (when computed) and frictional power
-        }
-
-    def _write_summary(self, handle) -> None:
-        if "summary" in handle:
-            del handle["summary"]
-        summary = handle.create_group("summary")
-        summary.attrs["long_name"] = (
-            "one row per case in this file: swept values, outcome, loads, creepage, Newton iterations, seconds"
-        )
-        order = sorted(self.rows)
-        rows = [self.rows[i] for i in order]
-        summary.create_dataset("index", data=np.array(order, dtype=np.int64))
-        for key in self.keys:
-            values = [row["values"].get(key) for row in rows]
-            if values and all(isinstance(v, (str, bytes)) for v in values):
-                summary.create_dataset(key, data=np.array(values, dtype=h5py.string_dtype()))
-            else:
-                summary.create_dataset(key, data=np.array(values, dtype=float))
-        types = {"converged": bool, "iterations": np.int64}
-        for column in SUMMARY_COLUMNS:
-            summary.create_dataset(column, data=np.array([row[column] for row in rows], dtype=types.get(column, float)))
-        summary.create_dataset("message", data=np.array([row["message"] for row in rows], dtype=h5py.string_dtype()))
-        for column in SWEEP_COLUMNS:
-            if any(column in row["extra"] for row in rows):
-                summary.create_dataset(column, data=np.array([row["extra"].get(column, np.nan) for row in rows]))
+def _kill_stragglers(executor) -> None:
+    """Local workers still running after the stop wait are killed, so the exit is prompt."""
+    for process in list((getattr(executor, "_processes", None) or {}).values()):
+        with contextlib.suppress(Exception):
+            process.kill()
+    with contextlib.suppress(Exception):
+        executor.shutdown(wait=False, cancel_futures=True)
 
 
-#: Seconds between two writes of the sweep file (a forced write ends every sweep).
-FLUSH_SECONDS = 1.0
+_TABLE_ATTRS = ("q_over_mu_p", "creep", "normal_load", "tangential_load", "iterations")
+
+
+def _table_entry(record: Record) -> tuple:
+    """What the end table shows of a record (formatted only if shown; no arrays kept)."""
+    attrs = record.result.attributes if record.result is not None else None
+    values = tuple(attrs[k] for k in _TABLE_ATTRS) if attrs is not None else None
+    return record.values, record.converged, values, record.message, record.seconds
+
+
+def _table_row(entry: tuple, keys: tuple[str, ...]) -> list[str]:
+    swept, converged, values, message, seconds = entry
+    cells = [f"{swept[k]:.6g}" if isinstance(swept[k], float) else str(swept[k]) for k in keys]
+    if values is not None:
+        q, creep, load, tangential, iterations = values
+        cells += ["yes" if converged else "NO", f"{q:.5f}", f"{creep:.5e}", f"{load:.6g}", f"{tangential:.6g}"]
+        cells.append(str(iterations))
+    else:
+        cells += ["NO: " + message[:60], "", "", "", "", ""]
+    return [*cells, f"{seconds:.3f}"]
 
 
 def summary_table(report: SweepReport, keys: tuple[str, ...]) -> str:
-    """The end-of-sweep table (one row per case, solved in this run or resumed ones excluded)."""
+    """The end-of-sweep table: one row per case solved in this run (resumed ones excluded); of a
+    long run its first and last :data:`TABLE_ROWS` rows (``rollc export`` writes them all)."""
     head = [*keys, "converged", "Q/(mu P)", "creep", "P", "Q", "iterations", "time [s]"]
-    rows = []
-    for index in sorted(report.records):
-        rec = report.records[index]
-        values = [f"{rec.values[k]:.6g}" if isinstance(rec.values[k], float) else str(rec.values[k]) for k in keys]
-        if rec.result is not None:
-            a = rec.result.attributes
-            cells = [
-                "yes" if rec.converged else "NO",
-                f"{a['q_over_mu_p']:.5f}",
-                f"{a['creep']:.5e}",
-                f"{a['normal_load']:.6g}",
-                f"{a['tangential_load']:.6g}",
-                str(a["iterations"]),
-            ]
-        else:
-            cells = ["NO: " + rec.message[:60], "", "", "", "", ""]
-        rows.append([*values, *cells, f"{rec.seconds:.3f}"])
+    first = [_table_row(entry, keys) for entry in report.head]
+    last = [_table_row(_table_entry(record), keys) for record in report.tail]
+    rows = first + last
     widths = [max(len(str(c)) for c in col) for col in zip(head, *rows, strict=False)]
-    lines = ["  ".join(str(c).rjust(w) for c, w in zip(head, widths, strict=False))]
-    lines += ["  ".join(str(c).rjust(w) for c, w in zip(row, widths, strict=False)) for row in rows]
+
+    def line(cells):
+        return "  ".join(str(c).rjust(w) for c, w in zip(cells, widths, strict=False))
+
+    lines = [line(head)] + [line(r) for r in first]
+    omitted = report.solved - len(first) - len(last)
+    if omitted > 0:
+        lines.append(f"  ... {omitted} more rows (rollc export {report.output} writes every row)")
+    lines += [line(r) for r in last]
     return "\n".join(lines)

@@ -160,3 +160,9 @@ def assert_force_balance(result, load: float | None = None, q: float | None = No
         assert abs(P - load) <= bound
     if q is not None:
         assert abs(Q - q) <= bound
+
+
+def without_timings(dataset):
+    """An xarray Dataset without its wall-clock variables (``time`` and every ``time_*``): what differs
+    between two runs that compute exactly the same numbers."""
+    return dataset.drop_vars([v for v in dataset.variables if v == "time" or str(v).startswith("time_")])

@@ -4,11 +4,13 @@ import numpy as np
 import pytest
 
 from helpers import case_dict, solve
-from rolling_cli.influence.bem import assembly, condense
+from rolling_cli.grid import ContactGrid
+from rolling_cli.influence import bem
+from rolling_cli.influence.bem import assembly, collinear, condense, farfield, symmetry
 from rolling_cli.influence.bem.elements import evaluate, gauss, lagrange_coefficients, map_points
 from rolling_cli.influence.bem.kelvin import displacement_kernel, traction_kernel
 from rolling_cli.influence.bem.mesh import rectangle
-from rolling_cli.references import carter
+from rolling_cli.references import carter, hertz
 
 E = 2.0e5
 
@@ -90,34 +92,103 @@ def _reference_integral(mesh, i, e, shear, nu, pieces=400):
 
 @pytest.mark.parametrize("depth", [1.0, 0.05])
 def test_nearly_singular_integrals_match_refined_subdivision(depth):
-    """Neighbours of discontinuous nodes (distance h/6) and, for the thin layer
-    (depth 0.05 against contact elements of 0.1), points across the layer: the
-    graded subdivision must match a brute-force 8000-point rule to 1e-12 of
-    the entry scale (the brute-force rule is itself converged to ~1e-14)."""
+    """Nodes near a corner (a side's first node against the top face's last element) and, for the thin
+    layer (depth 0.05 against contact elements of 0.1), points across the layer: the graded subdivision
+    must match a brute-force 8000-point rule to 1e-12 of the entry scale (the brute-force rule is itself
+    converged to ~1e-14)."""
     mesh = rectangle(1.0, depth, np.linspace(-0.5, 0.5, 11), largest=2 * depth)
     nu, shear = 0.5, E / 3
     H, G = assembly.assemble(mesh, shear, nu)
-    _, (pairs, _, dist), _ = assembly._classify(mesh)
-    assert len(pairs)
+    geo = assembly.geometry(mesh)
+    _, (i, e, t, dist), _ = assembly.classify(mesh, geo, np.arange(mesh.size), np.arange(mesh.elements))
+    assert len(i)
     rng = np.random.default_rng(1)
-    chosen = pairs[rng.choice(len(pairs), size=min(12, len(pairs)), replace=False)]
-    h_loc = np.zeros((mesh.size, mesh.elements, 3, 2, 2))
-    g_loc = np.zeros_like(h_loc)
-    assembly._near(mesh, lagrange_coefficients(mesh.local), (chosen, *_nearest(mesh, chosen)), shear, nu, h_loc, g_loc)
-    scale_g = np.abs(G).max()
-    scale_h = np.abs(H).max()
-    for i, e in chosen:
-        ref_g, ref_h = _reference_integral(mesh, i, e, shear, nu)
-        assert np.max(np.abs(g_loc[i, e] - ref_g)) <= 1e-12 * scale_g
-        assert np.max(np.abs(h_loc[i, e] - ref_h)) <= 1e-12 * scale_h
+    chosen = rng.choice(len(i), size=min(12, len(i)), replace=False)
+    pairs = np.column_stack([i, e])[chosen]
+    h, g = assembly.near_integrals(mesh, geo, pairs, t[chosen], dist[chosen], shear, nu)
+    for (node, element), h_found, g_found in zip(pairs, h, g, strict=True):
+        ref_g, ref_h = _reference_integral(mesh, node, element, shear, nu)
+        assert np.max(np.abs(g_found - ref_g)) <= 1e-12 * np.abs(G).max()
+        assert np.max(np.abs(h_found - ref_h)) <= 1e-12 * np.abs(H).max()
 
 
-def _nearest(mesh, pairs):
-    p0, p2 = mesh.geometry[pairs[:, 1], 0], mesh.geometry[pairs[:, 1], 2]
-    seg = p2 - p0
-    t = np.clip(np.einsum("pd,pd->p", mesh.nodes[pairs[:, 0]] - p0, seg) / np.einsum("pd,pd->p", seg, seg), 0, 1)
-    dist = np.linalg.norm(mesh.nodes[pairs[:, 0]] - (p0 + t[:, None] * seg), axis=1)
-    return t, dist
+@pytest.mark.parametrize("nu", [0.3, 0.5])
+def test_collinear_closed_form_matches_refined_subdivision(nu):
+    """Pairs whose node lies on the element's own line (the contact zone and the top face; not the node's
+    own element) are integrated in closed form, by Gauss on the smooth integrand, or by the series in
+    1/c, by the distance c in half-lengths: the brute-force 8000-point rule must agree to 1e-12 of the
+    entry scale in each regime (nearest neighbours of discontinuous nodes at h/6, c = 4/3; c in (2, 8];
+    c > 8, on the bottom and the top face, where the elements grow)."""
+    mesh = rectangle(3.0, 1.0, np.linspace(-0.5, 0.5, 11), far_field=True)
+    shear = E / (2 * (1 + nu))
+    H, G = assembly.assemble(mesh, shear, nu)
+    geo = assembly.geometry(mesh)
+    runs, _, _ = assembly.classify(mesh, geo, np.arange(mesh.size), np.arange(mesh.elements))
+    i = np.concatenate([np.broadcast_to(nodes, c.shape).ravel() for _, nodes, c, _ in runs])
+    e = np.concatenate([np.broadcast_to(qs[:, None], c.shape).ravel() for qs, _, c, _ in runs])
+    c = np.concatenate([c.ravel() for _, _, c, _ in runs])
+    own = np.concatenate([own.ravel() for _, _, _, own in runs])
+    rng = np.random.default_rng(2)
+    for regime in (np.abs(c) <= 2.0, (np.abs(c) > 2.0) & (np.abs(c) <= 8.0), np.abs(c) > 8.0):
+        candidates = np.flatnonzero(regime & (own < 0))
+        assert candidates.size
+        chosen = rng.choice(candidates, size=min(8, candidates.size), replace=False)
+        h, g = collinear.integrals(c[chosen, None], own[chosen, None], geo.coeff[e[chosen]], geo.half[e[chosen]],
+                                   geo.tangent[e[chosen]], shear, nu)  # fmt: skip
+        for node, element, h_found, g_found in zip(i[chosen], e[chosen], h[:, :, :, 0], g[:, :, :, 0], strict=True):
+            ref_g, ref_h = _reference_integral(mesh, node, element, shear, nu)
+            assert np.max(np.abs(g_found.swapaxes(-1, -2) - ref_g)) <= 1e-12 * np.abs(G).max()
+            assert np.max(np.abs(h_found.swapaxes(-1, -2) - ref_h)) <= 1e-12 * np.abs(H).max()
+
+
+@pytest.mark.parametrize("mirror", [True, False])
+@pytest.mark.parametrize("far_field", [True, False])
+@pytest.mark.parametrize("elements", [12, 13])
+def test_direct_system_condenses_as_the_dense_matrices(elements, far_field, mirror):
+    """The model assembles its boundary systems straight from the element integrals (contact unknowns
+    first, no H or G), for a mirror-symmetric body as two halves (symmetric and antisymmetric, collocated
+    on x >= 0; with 13 elements a contact node sits on x = 0); condensing the dense H and G of the same
+    integrals, whole, must give the same compliance to round-off: relative 1e-12 (a condition number
+    ~1e3 of a 400-unknown system times 1e-16, with room). A half-space block with its far field, and a
+    layer (fixed bottom)."""
+    grid = ContactGrid(1.5, elements, 2)
+    depth = 20.0 if far_field else 0.5
+    width, largest = (20.0, None) if far_field else (3.0, depth)
+    mesh = bem.body_mesh(grid, width, depth, largest=largest, far_field=far_field)
+    nu = 0.3
+    far = farfield.far_field_values(mesh, E, nu, depth)
+    assert len(symmetry.reductions(mesh, far, grid.weights, mirror)) == (2 if mirror else 1)
+    found = bem.condensed(mesh, grid, E, nu, mirror=mirror)
+    H, G = assembly.assemble(mesh, E / (2 * (1 + nu)), nu)
+    A, B = condense.boundary_system(mesh, H, G)
+    dofs = (2 * mesh.contact[:, None] + np.arange(2)).reshape(-1)
+    solved = np.linalg.solve(A, np.hstack([B[:, dofs], B @ far]))[dofs]
+    resultant = np.zeros((2, grid.size, 2))  # F_l = sum_j w_j t_(j, l)
+    resultant[0, :, 0] = resultant[1, :, 1] = grid.weights
+    flex = (solved[:, : dofs.size] + solved[:, dofs.size :] @ resultant.reshape(2, -1)).reshape(grid.size, 2, -1, 2)
+    expected = {"S_tt": flex[:, 0, :, 0], "S_tn": flex[:, 0, :, 1], "S_nt": -flex[:, 1, :, 0]}
+    expected["S_nn"] = -flex[:, 1, :, 1]
+    for name, block in expected.items():
+        assert getattr(found, name) == pytest.approx(block, abs=1e-12 * np.abs(expected["S_nn"]).max()), name
+
+
+def test_mirror_halves_give_the_whole_boundary_solution():
+    """The full boundary solution (every node's u and t) of a mirror-symmetric half-space block under an
+    asymmetric load (Hertz pressure plus Carter's traction, whose resultant has both components), from
+    the two halves and from the whole system: the same to round-off (1e-12 of each field's scale). A
+    block whose contact zone is off-centre is not its own mirror image: it keeps the whole system."""
+    grid = ContactGrid(1.5, 13, 2)
+    mesh = bem.body_mesh(grid, 20.0, 20.0, far_field=True)
+    p_n = -hertz.pressure(grid.x, 1.0, 1.0)
+    p_t = carter.traction(grid.x, 0.5, 1.0, 1.0, 0.3, -1)
+    halves = bem.boundary_solution(bem.prepare_body(mesh, grid, E, 0.3), p_n, p_t)
+    whole = bem.boundary_solution(bem.prepare_body(mesh, grid, E, 0.3, mirror=False), p_n, p_t)
+    for found, expected in zip(halves[1:], whole[1:], strict=True):
+        assert found == pytest.approx(expected, abs=1e-12 * np.abs(expected).max())
+    shifted = rectangle(20.0, 20.0, grid.edges + 0.1, far_field=True)
+    far = farfield.far_field_values(shifted, E, 0.3, 20.0)
+    assert symmetry.mirror_nodes(shifted) is None
+    assert len(symmetry.reductions(shifted, far, grid.weights)) == 1
 
 
 def test_paper_similar_case_against_carter_and_under_refinement():

@@ -2,6 +2,9 @@
 parse failure as the one-line error, nothing that blocks or floods memory."""
 
 import os
+import shutil
+import subprocess
+import sys
 import threading
 
 import pytest
@@ -135,8 +138,24 @@ def test_unreadable_paths(tmp_path):
         load_case(str(tmp_path / "nul\0byte.toml"))
 
 
-@pytest.mark.skipif(os.geteuid() == 0, reason="root reads files whatever their permissions")
 def test_permission_denied(tmp_path):
+    """A case file nobody may read. Root reads any file through CAP_DAC_OVERRIDE, so as root the check
+    runs in a subprocess whose capability bounding set lacks it (util-linux setpriv): a real denial."""
     path = write_case(tmp_path, CARTER)
     path.chmod(0)
-    assert "cannot read (Permission denied)" in _error(path)
+    if os.geteuid() != 0:
+        assert "cannot read (Permission denied)" in _error(path)
+        return
+    setpriv = shutil.which("setpriv")
+    assert setpriv, "setpriv (util-linux) is needed to drop root's file-access override"
+    code = (
+        "import sys\nfrom rolling_cli.case import load_case\nfrom rolling_cli.errors import CaseError\n"
+        f"try:\n    load_case({str(path)!r})\nexcept CaseError as err:\n    print(err)\n"
+    )
+    done = subprocess.run(
+        [setpriv, "--bounding-set=-dac_override,-dac_read_search", sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert "cannot read (Permission denied)" in done.stdout

@@ -29,7 +29,7 @@ def test_solve_writes_result_and_summary(tmp_path):
     for text in ("converged      yes", "Q/(mu P) = 0.51", "creepage", "adhesion", "slip", "time", "effects"):
         assert text in result.output
     with h5py.File(out) as f:
-        assert f.attrs["format"] == "rolling_cli.result" and f.attrs["converged"]
+        assert f.attrs["format"] == "rolling_cli.result" and f["converged"][0]
 
 
 def test_default_output_name_is_case_name_in_working_directory(tmp_path, monkeypatch):
@@ -76,7 +76,7 @@ def test_non_convergence_exits_1_and_writes_nothing_unless_asked(tmp_path):
     kept = _run("solve", case, "-o", out, "--keep-failed")
     assert kept.exit_code == 1
     with h5py.File(out) as f:
-        assert not f.attrs["converged"]
+        assert not f["converged"][0] and "did not converge" in f["message"][0].decode()
         assert len(f["convergence/residual"]) >= 1
 
 
@@ -87,7 +87,7 @@ def test_zone_too_small_is_enlarged_and_says_so(tmp_path):
     assert result.exit_code == 0, result.output
     assert "NOTE           discretization.zone enlarged from 1.001 to 1.5015" in result.output
     with h5py.File(out) as f:
-        assert "enlarged" in f.attrs["zone_note"]
+        assert "enlarged" in f["zone_note"][0].decode()
         import tomllib
 
         used = tomllib.loads(f.attrs["case"])["discretization"]["zone"]
@@ -159,12 +159,116 @@ def test_error_estimate_is_reported_and_stored(tmp_path):
     assert result.exit_code == 0, result.output
     assert "error estimate against 40 elements" in result.output
     with h5py.File(out) as f:
-        estimate = f.attrs["error_estimate"]
-        x, p_t = f["x"][()], f["p_t"][()]
-        a, p0, mu = f.attrs["hertz_a"], f.attrs["hertz_p0"], f.attrs["mu"]
-        assert f.attrs["error_estimate_elements"] == 40
-        assert 0 < f.attrs["error_estimate_rms"] < estimate
+        estimate = f["error_estimate"][0]
+        x, p_t = f["x"][()], f["p_t"][0]
+        a, p0, mu = f["hertz_a"][0], f["hertz_p0"][0], f["mu"][0]
+        assert f["error_estimate_elements"][0] == 40
+        assert 0 < f["error_estimate_rms"][0] < estimate
     from rolling_cli.references import carter
 
     true_error = np.max(np.abs(p_t - carter.traction(x, 0.51, a, p0, mu, -1))) / (mu * p0)
     assert true_error <= estimate
+
+
+def test_an_existing_output_is_never_replaced_silently(tmp_path):
+    case = _write(tmp_path, case_dict(**{"discretization.contact_elements": 40}))
+    out = tmp_path / "o.h5"
+    assert _run("-q", "solve", case, "-o", out).exit_code == 0
+    before = out.read_bytes()
+    again = _run("-q", "solve", case, "-o", out)
+    assert again.exit_code == 2
+    assert again.output.strip() == f"error: {out}: exists; allowed: --overwrite, or another output name"
+    assert out.read_bytes() == before
+    assert _run("-q", "solve", case, "-o", out, "--overwrite").exit_code == 0
+    stranger = tmp_path / "notes.txt"
+    stranger.write_text("mine")
+    refused = _run("-q", "solve", case, "-o", stranger)
+    assert refused.exit_code == 2 and stranger.read_text() == "mine"
+
+
+@pytest.mark.parametrize("target", ["case", "link", "device"])
+def test_outputs_that_are_inputs_links_or_devices_are_refused_even_with_overwrite(tmp_path, target):
+    case = _write(tmp_path, case_dict(**{"discretization.contact_elements": 40}), "victim.toml")
+    text = case.read_text()
+    if target == "case":
+        out = case
+    elif target == "link":
+        out = tmp_path / "link.h5"
+        out.symlink_to(tmp_path / "elsewhere.h5")
+    else:
+        out = "/dev/null"
+    result = _run("-q", "solve", case, "-o", out, "--overwrite")
+    assert result.exit_code == 2, result.output
+    line = result.output.strip()
+    assert "\n" not in line and "allowed" in line
+    assert {"case": "an input of this command", "link": "a symbolic link", "device": "not a regular file"}[
+        target
+    ] in line
+    assert case.read_text() == text and not (tmp_path / "elsewhere.h5").exists()
+
+
+def test_a_case_named_h5_keeps_its_input(tmp_path, monkeypatch):
+    """A case file called study.h5, solved with the default output (the case name with .h5), is not overwritten."""
+    case = _write(tmp_path, case_dict(**{"discretization.contact_elements": 40}), "study.h5")
+    monkeypatch.chdir(tmp_path)
+    text = case.read_text()
+    result = _run("-q", "solve", "study.h5", "--overwrite")
+    assert result.exit_code == 2 and "an input of this command" in result.output
+    assert case.read_text() == text
+
+
+@pytest.mark.parametrize("configured", ["/tmp/elsewhere.h5", "../up.h5", "sub/../../up.h5"])
+def test_output_file_of_a_case_stays_in_the_working_directory(tmp_path, monkeypatch, configured):
+    case = _write(tmp_path, case_dict(**{"discretization.contact_elements": 40, "output.file": configured}))
+    monkeypatch.chdir(tmp_path)
+    result = _run("-q", "solve", case)
+    assert result.exit_code == 2
+    assert f"case.toml: output.file = '{configured}': leaves the working directory" in result.output
+    given = _run("-q", "solve", case, "-o", tmp_path / "chosen.h5")  # the command line may name any path
+    assert given.exit_code == 0 and (tmp_path / "chosen.h5").exists()
+
+
+def test_the_plot_never_takes_the_results_path(tmp_path):
+    case = _write(tmp_path, case_dict(**{"discretization.contact_elements": 40}))
+    out = tmp_path / "x.png"
+    assert _run("-q", "solve", case, "-o", out, "--plot").exit_code == 0
+    with h5py.File(out) as f:  # the result kept its name ...
+        assert f.attrs["format"] == "rolling_cli.result"
+    assert (tmp_path / "x.png.png").read_bytes()[:4] == b"\x89PNG"  # ... and the figure went beside it
+    existing = tmp_path / "r.png"
+    existing.write_bytes(b"a figure of mine")
+    refused = _run("-q", "solve", case, "-o", tmp_path / "r.h5", "--plot")
+    assert refused.exit_code == 2 and f"{existing}: exists" in refused.output
+    assert not (tmp_path / "r.h5").exists()  # checked before anything was solved or written
+
+
+@pytest.mark.parametrize("command", ["solve", "sweep"])
+def test_a_second_writer_of_one_output_is_refused_at_once(tmp_path, command):
+    """Two processes: one holds the output's lock (as a running rollc does); the other stops at once."""
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "o.h5"
+    holder = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            "import sys, time; from rolling_cli import outputs\n"
+            f"with outputs.claim({str(out)!r}):\n    print('locked', flush=True); time.sleep(60)",
+        ],
+        stdout=subprocess.PIPE,
+    )
+    try:
+        assert holder.stdout.readline().strip() == b"locked"
+        case = _write(tmp_path, case_dict(**{"discretization.contact_elements": 40}))
+        extra = ["--set", "friction.mu=0.1,0.2"] if command == "sweep" else []
+        start = time.perf_counter()
+        result = _run("-q", command, case, *extra, "-o", out)
+        assert result.exit_code == 2
+        assert f"{out}: another rollc process (pid {holder.pid}) is writing it" in result.output
+        assert time.perf_counter() - start < 30 and not out.exists()
+    finally:
+        holder.kill()
+        holder.communicate()
+    assert _run("-q", command, case, *extra, "-o", out).exit_code == 0  # a killed holder released the lock

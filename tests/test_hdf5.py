@@ -1,68 +1,238 @@
-"""The result file schema, relied on by other tools."""
+"""The result file layout (format 2), relied on by other tools: xarray opens every kind of file
+as is, and what it shows is the solver's own result, bit for bit."""
 
+import os
 import tomllib
+from pathlib import Path
 
 import h5py
 import numpy as np
+import pytest
 
-from helpers import CARTER, case_dict, solve
+from helpers import CARTER, case_dict, dissimilar, solve
+from rolling_cli import blas, sweep
+from rolling_cli.case import load_case
 from rolling_cli.io_hdf5 import read_result, write_result
+from rolling_cli.rows import GROUP_HOOKS, GroupHook, Row, row_from_result
+from rolling_cli.writer import ResultFile
 
-ROOT_ATTRS = (
-    "format",
-    "format_version",
-    "software_version",
-    "created",
-    "case",
-    "converged",
-    "iterations",
-    "residual",
-    "normal_load",
-    "tangential_load",
-    "creep",
-    "overlap",
-    "mu",
-    "hertz_a",
-    "hertz_p0",
-    "beta_dundurs",
-    "effects",
-)
+xr = pytest.importorskip("xarray")
+pytest.importorskip("h5netcdf")
+
+DATA = Path(__file__).parent / "data"
+SMALL = case_dict(**{"discretization.contact_elements": 40})
+NODE_FIELDS = ("p_n", "p_t", "delta_n", "s_t", "state")
 
 
-def test_schema_and_round_trip(tmp_path):
+def _solver_records(base, spec, warm=True):
+    """The solver's own records of a sweep: the chunks solved directly, as the sweep solves them."""
+    items = [(i, combo, sweep.build(base, combo)) for i, combo in enumerate(spec.combinations())]
+    with blas.single_threaded():
+        return [record for chunk in sweep.chunks(items) for record in sweep.solve_chunk(chunk, warm, True)]
+
+
+def test_single_result_opens_in_xarray_with_units_and_the_solvers_values(tmp_path):
+    result = solve(SMALL)
+    path = tmp_path / "r.h5"
+    write_result(result, path)
+    ds = xr.open_dataset(path)  # no options: dimension scales, CF attributes, decodable types
+    n = result.x.size
+    assert dict(ds.sizes) == {"case": 1, "node": n}
+    assert list(ds.case.values) == [0] and ds.x.dims == ("node",) and "x" in ds.p_t.coords
+    for name in (*NODE_FIELDS, "weights"):
+        assert ds[name].dims == (("case", "node") if name != "weights" else ("node",))
+        values = ds[name].values[0] if name != "weights" else ds[name].values
+        assert np.array_equal(values, getattr(result, name)), name
+        assert values.dtype == getattr(result, name).dtype, name
+    assert np.array_equal(ds.x.values, result.x)
+    assert ds.p_n.attrs["units"] == "N/mm^2" and ds.x.attrs["units"] == "mm" and "long_name" in ds.p_t.attrs
+    assert ds.normal_load.attrs["units"] == "N/mm" and ds.creep.attrs["units"] == "1"
+    assert ds.state.attrs["flag_meanings"] == "separation adhesion slip"
+    assert list(ds.state.attrs["flag_values"]) == [0, 1, 2]
+    assert ds.converged.dtype == bool and bool(ds.converged[0])
+    for name in ("normal_load", "tangential_load", "creep", "mu", "hertz_a", "hertz_p0", "residual", "iterations"):
+        assert ds[name].values[0] == result.attributes[name], name
+    assert str(ds.message.values[0]) == "" and str(ds.influence.values[0]) == "half-plane"
+    assert ds.attrs["Conventions"] == "CF-1.8" and ds.attrs["format_version"] == 2
+    assert ds.attrs["cases_complete"] == 1 and ds.attrs["created"].endswith("+00:00")
+    assert "rolling_cli" in ds.attrs["history"] and ds.attrs["source"].startswith("rolling_cli")
+    assert tomllib.loads(ds.attrs["case"])["tangential"]["q_over_mu_p"] == 0.51
+    # Q is the weighted sum of the tangential traction, as documented
+    assert np.isclose(ds.weights.values @ ds.p_t.values[0], ds.tangential_load.values[0], rtol=1e-12)
+    conv = xr.open_dataset(path, group="convergence")
+    assert list(conv.residual.values) == [row["residual"] for row in result.history]
+    assert list(conv.stage.values) == [row["stage"] for row in result.history]
+    assert set(conv.case_index.values) == {0} and conv.case_index.attrs["instance_dimension"] == "case"
+    assert ds.history_rows.values[0] == len(result.history) and ds.nodes.values[0] == n
+
+
+def test_read_result_round_trip(tmp_path):
     result = solve(CARTER)
     path = tmp_path / "r.h5"
     write_result(result, path)
-    with h5py.File(path) as f:
-        for name in ROOT_ATTRS:
-            assert name in f.attrs, name
-        assert f.attrs["format"] == "rolling_cli.result" and f.attrs["format_version"] == 1
-        assert f.attrs["created"].endswith("+00:00")
-        case = tomllib.loads(f.attrs["case"])
-        assert case["tangential"]["q_over_mu_p"] == 0.51 and case["solver"]["max_iterations"] == 100
-        n = f["x"].shape[0]
-        for name in ("x", "p_n", "p_t", "delta_n", "s_t", "state"):
-            ds = f[name]
-            assert ds.shape == (n,) and "units" in ds.attrs and "long_name" in ds.attrs
-        assert f["state"].dtype == np.int8
-        assert f["p_n"].attrs["units"] == "N/mm^2" and f["x"].attrs["units"] == "mm"
-        assert set(np.unique(f["state"][()])) <= {0, 1, 2}
-        assert "separation adhesion slip" == f["state"].attrs["flag_meanings"]
-        assert f["convergence/residual"][-1] <= 1e-10
-        assert "hertz_pressure" in f["reference"] and "carter_traction" in f["reference"]
-        # Q is the weighted sum of the tangential traction, as documented
-        assert np.isclose(f["weights"][()] @ f["p_t"][()], f.attrs["tangential_load"])
-        assert np.isnan(f.attrs["overlap"])  # undefined for the half-plane model
     back = read_result(path)
-    assert np.array_equal(back.p_t, result.p_t) and back.normal_load == result.normal_load
-    assert back.history[-1]["residual"] == result.history[-1]["residual"]
+    for name in (*NODE_FIELDS, "x", "weights"):
+        assert np.array_equal(getattr(back, name), getattr(result, name)), name
+    for key, value in result.attributes.items():
+        if key == "format_version":
+            continue
+        stored = back.attributes[key]
+        assert stored == value or (isinstance(value, float) and np.isnan(value) and np.isnan(stored)), key
+    assert back.reference.keys() == result.reference.keys()
+    assert np.array_equal(back.reference["carter_traction"], result.reference["carter_traction"])
+    for row, stored in zip(result.history, back.history, strict=True):
+        assert all(stored[k] == v for k, v in row.items())
+    assert back.case_toml == result.case_toml
+
+
+def test_sweep_file_is_one_tidy_table(tmp_path):
+    """The issue's one-liners: open_dataset, to_dataframe, and ds.p_t.sel(case=ds.mu == 0.3)."""
+    base = load_case(SMALL)
+    spec = sweep.spec_from_options(["friction.mu=0.1:0.4:4"], False)  # 0.3 exactly, not 0.30000000000000004
+    path = tmp_path / "study.h5"
+    sweep.run(base, spec, path)
+    records = _solver_records(base, spec)
+    ds = xr.open_dataset(path)
+    assert dict(ds.sizes) == {"case": 4, "node": records[0].result.x.size}
+    assert list(ds.friction_mu.values) == [0.1, 0.2, 0.3, 0.4] and "friction_mu" in ds.coords
+    assert ds.friction_mu.attrs["case_key"] == "friction.mu"
+    assert ds.x.dims == ("node",)  # every case shares the grid
+    selected = ds.p_t.sel(case=ds.mu == 0.3)
+    assert selected.shape == (1, ds.sizes["node"])
+    assert np.array_equal(selected.values[0], records[2].result.p_t)  # bit for bit, the solver's own record
+    for record in records:
+        for name in NODE_FIELDS:
+            assert np.array_equal(ds[name].values[record.index], getattr(record.result, name)), name
+        assert ds.creep.values[record.index] == record.result.creep
+    table = ds.to_dataframe()
+    assert len(table) == 4 * ds.sizes["node"] and {"p_t", "friction_mu", "mu", "converged"} <= set(table.columns)
+    assert ds.attrs["sweep_keys"] == '["friction.mu"]' and ds.attrs["cases_total"] == 4
+
+
+def test_failed_cases_are_rows_with_a_reason(tmp_path):
+    base = load_case(SMALL)
+    spec = sweep.spec_from_options(["tangential.q_over_mu_p=0.3,1.2,0.8"], False)
+    path = tmp_path / "s.h5"
+    report = sweep.run(base, spec, path)
+    assert int(report.failed_mask.sum()) == 1
+    ds = xr.open_dataset(path)
+    assert list(ds.converged.values) == [True, False, True]
+    assert "gross sliding" in str(ds.message.values[1]) and str(ds.message.values[0]) == ""
+    assert np.all(np.isnan(ds.p_t.values[1])) and np.all(ds.state.values[1] == -1)
+    assert ds.iterations.values[1] == -1 and np.isnan(ds.normal_load.values[1])
+    assert ds.tangential_q_over_mu_p.values[1] == 1.2
+
+
+def test_grids_that_differ_are_per_case_and_padded(tmp_path):
+    base = load_case(SMALL)
+    spec = sweep.spec_from_options(["discretization.contact_elements=10,20"], False)
+    path = tmp_path / "s.h5"
+    sweep.run(base, spec, path)
+    records = _solver_records(base, spec)
+    ds = xr.open_dataset(path)
+    assert ds.sizes["node"] == 60 and ds.x.dims == ("case", "node")  # quadratic elements: 3 nodes each
+    assert list(ds.nodes.values) == [30, 60]
+    for record in records:
+        n = record.result.x.size
+        assert np.array_equal(ds.x.values[record.index, :n], record.result.x)
+        assert np.array_equal(ds.p_n.values[record.index, :n], record.result.p_n)
+        assert np.all(np.isnan(ds.p_n.values[record.index, n:])) and np.all(ds.state.values[record.index, n:] == -1)
+
+
+def test_a_grid_that_changes_later_turns_x_per_case(tmp_path):
+    """x starts one-dimensional; a later case on another grid rebuilds it as (case, node), rows kept."""
+    first, second = solve(SMALL), solve(case_dict(SMALL, **{"normal.load": 900.0}))
+    path = str(tmp_path / "s.h5")
+    writer = ResultFile(path, {"format": "rolling_cli.result", "format_version": 2}, ("normal.load",), total=2)
+    writer.add(row_from_result(first, 0, {"normal.load": 1812.5}))
+    writer.commit()
+    with h5py.File(path) as f:
+        assert f["x"].ndim == 1
+    writer.add(row_from_result(second, 1, {"normal.load": 900.0}))
+    writer.close()
+    ds = xr.open_dataset(path)
+    assert ds.x.dims == ("case", "node")
+    assert np.array_equal(ds.x.values[0], first.x) and np.array_equal(ds.x.values[1], second.x)
+    assert ds.normal_load_set.attrs["case_key"] == "normal.load"  # the solved P keeps its own name
+    assert ds.normal_load.values[1] == second.normal_load
+
+
+def test_appends_write_in_place_and_scalars_of_any_kind(tmp_path):
+    """A commit that fits writes rows into the file as it is (same inode, same size: no copy);
+    new scalars, wider texts and number kinds that change rebuild it, keeping the rows."""
+    result = solve(SMALL)
+    path = str(tmp_path / "s.h5")
+    writer = ResultFile(path, {"format": "rolling_cli.result", "format_version": 2}, total=40)
+    for i in range(3):
+        writer.add(row_from_result(result, i, extra=i, label="a"))
+    writer.commit()
+    before = os.stat(path)
+    for i in range(3, 6):
+        writer.add(row_from_result(result, i, extra=i, label="b"))
+    writer.commit()
+    after = os.stat(path)
+    assert (after.st_ino, after.st_size) == (before.st_ino, before.st_size)
+    writer.add(row_from_result(result, 6, extra=0.5, label="a much longer label than before", new_flag=True))
+    writer.commit()
+    assert os.stat(path).st_ino != before.st_ino  # rebuilt: a new file, made while the old one existed
+    writer.close()
+    ds = xr.open_dataset(path)
+    assert ds.sizes["case"] == 7 and list(ds.case.values) == list(range(7))
+    assert ds.extra.dtype == float and list(ds.extra.values) == [0, 1, 2, 3, 4, 5, 0.5]
+    assert list(ds.label.values) == ["a"] * 3 + ["b"] * 3 + ["a much longer label than before"]
+    assert ds.new_flag.dtype == bool and list(ds.new_flag.values) == [False] * 6 + [True]
+
+
+def test_history_columns_are_the_union_of_all_rows(tmp_path):
+    result = solve(SMALL)
+    path = str(tmp_path / "s.h5")
+    writer = ResultFile(path, {"format": "rolling_cli.result", "format_version": 2}, total=2)
+    writer.add(row_from_result(result, 0))
+    changed = [{**row, "predictor": "secant"} for row in result.history]  # a column the solver does not write
+    writer.add(Row(1, {}, {"converged": True, "history_rows": len(changed)}, history=changed))
+    writer.close()
+    conv = xr.open_dataset(path, group="convergence")
+    n = len(result.history)
+    assert conv.sizes["row"] == 2 * n and list(conv.case_index.values) == [0] * n + [1] * n
+    assert list(conv.predictor.values) == [""] * n + ["secant"] * n
+    assert list(conv.residual.values) == [r["residual"] for r in result.history] * 2
+
+
+def test_extra_groups_through_their_hook(tmp_path, monkeypatch):
+    def write(group, payload):
+        group.create_dataset("sigma_xx", data=payload)
+
+    monkeypatch.setitem(GROUP_HOOKS, "stresses", GroupHook(write, lambda group: group["sigma_xx"][()]))
+    result = solve(SMALL)
+    field = np.arange(12.0).reshape(3, 4)
+    result.stresses = field
+    path = tmp_path / "r.h5"
+    write_result(result, path)
+    assert np.array_equal(read_result(path).stresses, field)
+    assert xr.open_dataset(path).sizes["case"] == 1  # the root layout is unchanged
 
 
 def test_no_reference_for_dissimilar(tmp_path):
-    data = case_dict(**{"bodies.A.young": 60260.0, "bodies.A.poisson": 0.31})
-    result = solve(data)
+    result = solve(dissimilar(**{"discretization.contact_elements": 40}))
     path = tmp_path / "d.h5"
     write_result(result, path)
-    with h5py.File(path) as f:
-        assert "reference" not in f
-        assert f.attrs["beta_dundurs"] > 0.1
+    ds = xr.open_dataset(path)
+    assert "carter_traction" not in ds and ds.beta_dundurs.values[0] > 0.1
+
+
+def test_format_1_files_are_still_read():
+    result = read_result(DATA / "v1_result.h5")
+    assert result.converged and result.x.size == 30 and result.history
+    with h5py.File(DATA / "v1_sweep.h5") as f:
+        assert f.attrs["format"] == "rolling_cli.sweep"
+    assert read_result(DATA / "v1_sweep.h5", 2).attributes["tangential.q_over_mu_p"] == 0.8
+
+
+def test_files_honour_the_umask(tmp_path):
+    result = solve(SMALL)
+    old = os.umask(0o027)
+    try:
+        write_result(result, tmp_path / "r.h5")
+    finally:
+        os.umask(old)
+    assert (os.stat(tmp_path / "r.h5").st_mode & 0o777) == 0o640

@@ -81,3 +81,30 @@ def test_solve_plot_writes_figure_beside_result(tmp_path, name):
     result = CliRunner().invoke(main, ["-q", "solve", str(case), "-o", str(out), "--plot"])
     assert result.exit_code == 0, result.output
     assert (tmp_path / f"{name}.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("name", ["v1_result", "v1_sweep"])
+def test_format_1_files_still_plot(tmp_path, name):
+    """Files written before the current layout (one group per case) plot as before."""
+    source = Path(__file__).parent / "data" / f"{name}.h5"
+    fig = plot_file(str(source), str(tmp_path / f"{name}.png"))
+    assert (tmp_path / f"{name}.png").stat().st_size > 10_000
+    if name == "v1_sweep":
+        # Q/(mu P) swept, one case failed (gross sliding): two traction curves and the creep-force curve
+        assert len(fig.axes) == 2 and len(fig.axes[0].get_lines()) == 2
+        assert len(fig.axes[1].get_lines()[0].get_xdata()) == 2
+    else:
+        assert "Carter" in [line.get_label() for line in fig.axes[0].get_lines()]
+
+
+def test_plot_refuses_to_replace_a_figure_unless_asked(tmp_path):
+    path = tmp_path / "r.h5"
+    write_result(solve(SMALL), path)
+    figure = tmp_path / "r.png"
+    figure.write_bytes(b"my own picture")
+    runner = CliRunner()
+    refused = runner.invoke(main, ["plot", str(path)])
+    assert refused.exit_code == 2 and "exists; allowed: --overwrite" in refused.output
+    assert figure.read_bytes() == b"my own picture"
+    assert runner.invoke(main, ["plot", str(path), "--overwrite"]).exit_code == 0
+    assert figure.read_bytes()[:4] == b"\x89PNG"

@@ -6,11 +6,12 @@ import pytest
 from helpers import case_dict
 from rolling_cli import materials, pipeline
 from rolling_cli.case import load_case
+from rolling_cli.influence import build
 from rolling_cli.influence.bem import kelvin
 from rolling_cli.influence.bem.elements import map_points
 from rolling_cli.influence.bem.mesh import rectangle
 from rolling_cli.references import carter, hertz
-from rolling_cli.stresses import bem, boundary, compute, halfplane
+from rolling_cli.stresses import bem, compute, halfplane
 
 G, NU = 80.0, 0.3
 
@@ -105,21 +106,25 @@ def _against_half_plane(case, the_plan, p_n, p_t, x, z):
     """Body B's BEM field and the half-plane's on the grid z x x, (3, P) each in the (x, z) frame, and P."""
     X, Z = np.meshgrid(x, z)
     body = case.bodies.B
-    mesh = boundary.body_mesh(case, the_plan, body)
-    u, t = boundary.solve(mesh, body.young, body.poisson, np.stack([-p_t, p_n], axis=1)[None])
+    mesh, u, t = build.boundary_solution(case, the_plan, "B", p_n, p_t)  # B carries -p_t
     shear = materials.shear_modulus(body.young, body.poisson)
-    s = bem.stresses(mesh, u[0], t[0], shear, body.poisson, np.stack([X.ravel(), -Z.ravel()], axis=1))
+    s = bem.stresses(mesh, u, t, shear, body.poisson, np.stack([X.ravel(), -Z.ravel()], axis=1))
     reference = np.stack(halfplane.stresses_at(the_plan.grid, p_n, -p_t, X.ravel(), Z.ravel()))
     return np.stack([s[0], s[1], -s[2]]), reference, -the_plan.grid.weights @ p_n  # (x, y = -z) -> (x, z)
 
 
 def test_bem_block_fields_agree_with_the_half_plane_near_the_contact():
     """The same tractions (Hertz and Carter) on the BEM half-space block and on the closed-form half-plane,
-    body B, down to 3 a below |x| < 1.8 a. Two differences: the block's truncation at W = D = 100 a, whose
-    fixed bottom and free sides change the stresses by at most the Flamant stress there, 2P/(pi W); and the
-    BEM's discretisation, estimated as the change from N = 30 to N = 60 contact elements (convergence is
-    at least first order, so the error of the finer mesh is below that change). Points from one element
-    length below the surface."""
+    body B, down to 3 a below |x| < 1.8 a, the block's field from the influence model's own boundary
+    solution (Flamant's far field on its truncation at W = D = 100 a). Two differences remain:
+    * the far field carries the tractions' resultant exactly; what it leaves out is their first moments
+      M = sum w x (p_n, p_t), a force dipole, whose stresses fall like 2|M|/(pi r^2) (the derivative of
+      Flamant's 2P/(pi r)): the truncation changes the field near the contact by that at r = W, 2|M|/(pi W^2)
+      (1.5e-3 here, against the fixed-bottom block's 2P/(pi W) = 10, which that block does reach: measured 7.4);
+    * the BEM's discretisation, estimated by the change from N = 30 to N = 60 contact elements: with a
+      convergence order >= 1 (measured 1.3: max errors 1.79, 0.71, 0.28 at 30, 60, 120) the finer mesh's
+      error is below that change in the max norm (pointwise the change can vanish where the error does not).
+    Points from one element length below the surface. Measured: max error 0.71, change 0.98."""
     x, z = np.linspace(-1.8, 1.8, 13), np.linspace(0.1, 3.0, 8)
     fields = []
     for elements in (30, 60):
@@ -127,9 +132,12 @@ def test_bem_block_fields_agree_with_the_half_plane_near_the_contact():
         the_plan, p_n, p_t = _synthetic(case)
         found, reference, load = _against_half_plane(case, the_plan, p_n, p_t, x, z)
         fields.append(found)
-    truncation = 2 * load / (np.pi * case.discretization.block_width * the_plan.half_width)
-    assert np.all(np.abs(fields[1] - reference) <= truncation + np.abs(fields[1] - fields[0]))
-    assert np.abs(fields[1] - reference).max() <= 0.02 * 1000.0  # and that is small: 2 % of p0
+    grid = the_plan.grid
+    moments = np.hypot(grid.weights @ (grid.x * p_n), grid.weights @ (grid.x * p_t))
+    truncation = 2 * moments / (np.pi * (case.discretization.block_width * the_plan.half_width) ** 2)
+    error = np.abs(fields[1] - reference).max()
+    assert error <= truncation + np.abs(fields[1] - fields[0]).max()
+    assert error <= 2e-3 * 1000.0  # and that is small: 0.2 % of p0 (the old allowance alone was 1 %)
 
 
 def _layer_case(thickness, elements=40, young=210000.0, poisson=0.3, **dotted):
@@ -178,16 +186,14 @@ def test_layer_bond_line_carries_the_applied_loads():
     assert arrays["bond_weights"].sum() == pytest.approx(2 * (the_plan.grid.half_width + 10 * 0.1), rel=1e-12)
     assert arrays["z"][-1] == 0.1
     # the bond arrays (tractions with the layer's normal +z) agree with the stress recovered on the boundary
-    body = case.bodies.B
-    mesh = boundary.body_mesh(case, the_plan, body)
-    u, t = boundary.solve(mesh, body.young, body.poisson, np.stack([-p_t, p_n], axis=1)[None])
+    mesh, u, t = build.boundary_solution(case, the_plan, "B", p_n, p_t)
     on_bond = np.stack([arrays["bond_x"], np.full(arrays["bond_x"].size, -0.1)], axis=1)
-    recovered = bem.stresses(mesh, u[0], t[0], materials.shear_modulus(10.0, 0.3), 0.3, on_bond)
+    recovered = bem.stresses(mesh, u, t, materials.shear_modulus(10.0, 0.3), 0.3, on_bond)
     scale = np.abs(arrays["bond_sigma_zz"]).max()
     assert recovered[1] == pytest.approx(arrays["bond_sigma_zz"], abs=1e-12 * scale)
     assert -recovered[2] == pytest.approx(arrays["bond_tau_xz"], abs=1e-12 * scale)
     assert recovered[0] == pytest.approx(0.3 / 0.7 * recovered[1], abs=1e-12 * scale)  # u = 0: eps_xx = 0
     assert arrays["sigma_xx"][-1] == pytest.approx(0.3 / 0.7 * arrays["sigma_zz"][-1], abs=1e-12 * scale)
     surface = np.stack([the_plan.grid.x, np.zeros(the_plan.grid.size)], axis=1)
-    on_top = bem.stresses(mesh, u[0], t[0], materials.shear_modulus(10.0, 0.3), 0.3, surface)
+    on_top = bem.stresses(mesh, u, t, materials.shear_modulus(10.0, 0.3), 0.3, surface)
     assert -on_top[2] == pytest.approx(p_t, abs=1e-12 * scale) and on_top[1] == pytest.approx(p_n, abs=1e-12 * scale)

@@ -3,10 +3,10 @@ assumption is reported in the summary and as a result attribute."""
 
 import math
 
-import h5py
 import pytest
 
 from helpers import STEEL, case_dict, run_cli, solve, write_case
+from rolling_cli.io_hdf5 import read_result
 from rolling_cli.references import hertz
 from rolling_cli.validity import HALF_SPACE_LIMIT
 
@@ -27,10 +27,8 @@ def test_rubber_roller_on_steel_is_flagged(tmp_path):
     out = tmp_path / "rubber.h5"
     run = run_cli("solve", write_case(tmp_path, data), "-o", out)
     assert run.exit_code == 0, run.output
-    with h5py.File(out) as f:
-        ratio = f.attrs["half_space_ratio"]
-        warning = f.attrs["validity_warning"]
-        a = f.attrs["contact_half_width"]
+    stored = read_result(out)  # the file's (case) variables, as any reader sees them
+    ratio, warning, a = stored.half_space_ratio, stored.validity_warning, stored.contact_half_width
     e_star = 1.0 / ((1 - 0.49**2) / 10.0 + (1 - 0.28**2) / STEEL["young"])
     assert a == pytest.approx(hertz.half_width(1812.5, 50.0, e_star), rel=0.05)  # the node cell
     assert ratio == pytest.approx(a / 100.0, rel=1e-12) and ratio > HALF_SPACE_LIMIT

@@ -14,32 +14,24 @@ import dataclasses
 
 from ..case import Case
 from ..grid import ContactGrid
-from ..influence import halfplane
 from ..pipeline import build_contact_system, measured_plan, solve
 from ..result import Result
 from ..solver.formulation import State
-from ..system import ContactSystem, build_system
+from ..system import ContactSystem
 
 
 def system_on_grid(case: Case, grid: ContactGrid, use_cache: bool = True) -> ContactSystem:
     """The case's contact system with its contact grid replaced by ``grid`` (same zone).
 
-    Graded grids need the half-plane model: the BEM influence is memoised and
-    cached on the zone's width and element count, not on its edges, so a graded
-    grid would silently get a uniform grid's influence. A graded grid's
-    half-plane influence is built outside the in-process memo, which would
-    otherwise keep the dense matrices of every level of an adaptive run.
+    Graded grids need the half-plane model (ValueError otherwise): the BEM influence
+    is memoised and cached on the zone's width and element count, not on its edges,
+    so a graded grid would silently get a uniform grid's influence. A graded grid's
+    half-plane influence is built outside the in-process memo, which would otherwise
+    keep the dense matrices of every level of an adaptive run
+    (:func:`rolling_cli.adapt.graded.graded_compliance`).
     """
     the_plan = dataclasses.replace(measured_plan(case, use_cache), grid=grid)
-    if not grid.uniform and the_plan.effects.influence != "half-plane":
-        raise ValueError("graded contact grids need the half-plane influence model (the BEM takes none yet)")
-    if grid.uniform:
-        return build_contact_system(case, the_plan, use_cache)
-    a, b = case.bodies.A, case.bodies.B
-    compliance = halfplane.pair_compliance(grid, a.modulus, a.ratio, b.modulus, b.ratio, the_plan.effects.coupling)
-    penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
-    scheme = case.discretization.slip_derivative
-    return build_system(compliance, the_plan.radius, case.rolling.direction, grid, scheme, penalty)
+    return build_contact_system(case, the_plan, use_cache)
 
 
 def solve_on_grid(case: Case, grid: ContactGrid, start: State | None = None, use_cache: bool = True) -> Result:

@@ -140,14 +140,76 @@ def locate_kinks(result, grid=None) -> tuple[np.ndarray, np.ndarray]:
     (positions [length], kinds), sorted by position; kinds are
     :data:`CONTACT_EDGE` or :data:`STICK_SLIP`.
     """
+    return locate(result.x, result.p_n, result.p_t, result.delta_n, result.state, result.mu, grid)
+
+
+def locate(
+    x: np.ndarray,
+    p_n: np.ndarray,
+    p_t: np.ndarray,
+    gap: np.ndarray,
+    state: np.ndarray,
+    mu: float,
+    grid=None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`locate_kinks` on plain arrays: node positions ``x`` and ``gap`` [length], tractions
+    [stress], node ``state`` (0 separation, 1 adhesion, 2 slip), friction coefficient ``mu``."""
     element = None
     if grid is not None:
         element = np.repeat(np.arange(grid.elements), grid.nodes_per_element)
-    edges = contact_edges(result.x, result.p_n, result.delta_n, element)
+    edges = contact_edges(x, p_n, gap, element)
     boundaries = np.empty(0)
-    if result.mu > 0.0:
-        boundaries = stick_slip_boundaries(result.x, result.p_n, result.p_t, result.state, result.mu)
+    if mu > 0.0:
+        boundaries = stick_slip_boundaries(x, p_n, p_t, state, mu)
     positions = np.concatenate([edges, boundaries])
     kinds = np.array([CONTACT_EDGE] * edges.size + [STICK_SLIP] * boundaries.size)
     order = np.argsort(positions, kind="stable")
     return positions[order], kinds[order]
+
+
+def displacement_change(
+    x: np.ndarray,
+    p_n: np.ndarray,
+    p_t: np.ndarray,
+    state: np.ndarray,
+    mu: float,
+    positions: np.ndarray,
+    kinds: np.ndarray,
+    p0: float,
+    shifts: np.ndarray,
+) -> np.ndarray:
+    """The traction change [-] that moving each kink by ``shifts`` [length] makes next to it.
+
+    On the kink's square-root side the traction vanishes at the kink and grows
+    like sqrt(d); moved by Delta, the traction at distance Delta from the kink
+    goes from (about) zero to its value there, so the change is the value at
+    d = Delta: the pressure |p_n| / p0 beside a contact edge (p_t = mu p_n in
+    slip makes it the tangential change in units of mu p0; beside an adhering
+    edge Carter's traction grows more slowly), the friction reserve
+    (mu |p_n| - |p_t|) / (mu p0) beside a stick/slip boundary. Interpolated
+    between the nodes of the side's run, and below the first node d_1 as the
+    square root v_1 sqrt(Delta / d_1).
+    """
+    out = np.zeros(positions.shape)
+    if not p0 > 0.0:
+        return out
+    contact, stick = p_n < 0.0, state == 1
+    reserve = np.maximum(mu * np.abs(p_n) - np.abs(p_t), 0.0) / (mu * p0) if mu > 0.0 else np.zeros_like(p_n)
+    for k, (position, kind, shift) in enumerate(zip(positions, kinds, shifts, strict=True)):  # a handful
+        side = contact if kind == CONTACT_EDGE else stick
+        values = -p_n / p0 if kind == CONTACT_EDGE else reserve
+        if not side.any() or not shift > 0.0:
+            continue
+        candidates = np.flatnonzero(side)
+        first = candidates[np.argmin(np.abs(x[candidates] - position))]
+        step = 1 if x[first] >= position else -1
+        run = first + step * np.arange(x.size)  # the side's nodes from the kink inwards, while they last
+        run = run[(run >= 0) & (run < x.size)]
+        outside = np.flatnonzero(~side[run])
+        run = run[: outside[0]] if outside.size else run
+        distance = np.abs(x[run] - position)
+        if shift <= distance[0]:
+            out[k] = float(values[first]) * np.sqrt(shift / distance[0]) if distance[0] > 0.0 else 0.0
+        else:
+            out[k] = float(np.interp(shift, distance, values[run]))
+    return out

@@ -53,13 +53,16 @@ def smooth_edges(edges: np.ndarray, max_ratio: float = 2.0, max_passes: int = 64
     return edges
 
 
-def desired_lengths(grid: ContactGrid, indicator: np.ndarray, target: float, rate: float = 0.5) -> np.ndarray:
+def desired_lengths(
+    grid: ContactGrid, indicator: np.ndarray, target: float, rate: float = 0.5, coarsen: float = 1.0
+) -> np.ndarray:
     """Element length [length] that brings each element's indicator to ``target``: h (target/eta)^(1/rate).
 
-    Elements already at or below the target keep their length (no coarsening).
+    Elements below the target may grow by at most ``coarsen`` (>= 1; 1: they keep their length).
     """
     eta = np.asarray(indicator, dtype=float)
-    factor = np.minimum(target / np.maximum(eta, np.finfo(float).tiny), 1.0) ** (1.0 / rate)
+    ratio = target / np.maximum(eta, np.finfo(float).tiny)
+    factor = np.minimum(ratio ** (1.0 / rate), coarsen) if coarsen > 1.0 else np.minimum(ratio, 1.0) ** (1.0 / rate)
     return grid.element_lengths * factor
 
 

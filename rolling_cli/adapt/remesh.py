@@ -19,7 +19,9 @@ solver's continuation driver; ``benchmarks/adaptive.py`` prototypes it):
 5. every other element whose indicator exceeds safety * tolerance imposes
    h (safety tolerance / eta)^(1/(order + 1)) over its extent
    (:func:`.refine.limit_lengths`): away from a kink the traction is smooth and
-   the jumps fall like h^(order + 1).
+   the jumps fall like h^(order + 1). Optionally (``coarsen``, the adaptive
+   loop's choice) elements far below the target may grow by a bounded factor,
+   so that a fine uniform start does not stay fine where nothing happens.
 """
 
 from __future__ import annotations
@@ -80,17 +82,28 @@ def next_grid(
     tolerance: float,
     safety: float = SAFETY,
     growth: float = GROWTH,
+    coarsen: float = 1.0,
+    largest: float | None = None,
 ) -> ContactGrid:
     """The grid for the next solve, from the ``indicator`` per element of ``grid``, the ``kinks``
     [length] of its solution and their ``kinds`` (:func:`rolling_cli.adapt.kinks.locate_kinks`), and
     the ``tolerance`` (the indicator's units, e.g. a fraction of mu p0).
+
+    ``coarsen`` > 1 lets elements away from the kinks whose indicator is below the target grow by
+    up to that factor (the smooth field's rate, h^(order + 1)), and the longest element grow to
+    ``coarsen`` times the current longest but not beyond ``largest`` [length]; by default no
+    element grows.
     """
     target = safety * tolerance
     near = kink_elements(grid, kinks)
     h = grid.element_lengths
+    longest = float(h.max())
+    if coarsen > 1.0 and largest is not None:
+        longest = max(longest, min(coarsen * longest, largest))
     sizes = kink_sizes(grid, indicator, kinks, kinds, target) if kinks.size else h.min()
     lower, upper = grid.centre - grid.half_width, grid.centre + grid.half_width
-    edges = graded_edges(lower, upper, kinks, np.minimum(sizes, h.max()), float(h.max()), growth)
-    field = np.where(near, np.inf, desired_lengths(grid, indicator, target, rate=grid.order + 1.0))
-    edges = limit_lengths(edges, grid.edges, field)
+    edges = graded_edges(lower, upper, kinks, np.minimum(sizes, longest), longest, growth)
+    smooth = desired_lengths(grid, indicator, target, rate=grid.order + 1.0, coarsen=coarsen)
+    smooth = np.maximum(smooth, SMALLEST_FRACTION * 2.0 * grid.half_width)  # the same floor as at the kinks
+    edges = limit_lengths(edges, grid.edges, np.where(near, np.inf, smooth))
     return ContactGrid.graded(edges, grid.order)

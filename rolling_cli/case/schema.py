@@ -162,6 +162,17 @@ class Discretization:
     layer_length: float = spec(
         10.0, doc="BEM layer: free length beyond the zone / layer thickness", kind="float", gt=0.5, le=1000.0
     )
+    tolerance: float | None = spec(
+        None,
+        doc="requested maximum traction error / (mu p0) (/ p0 when frictionless): adaptive meshes from "
+        "contact_elements on; none: the fixed mesh",
+        kind="float",
+        ge=1e-5,
+        le=0.5,
+    )
+    max_refinements: int = spec(
+        10, doc="adaptive meshes: most refinements after the first mesh", kind="int", ge=0, le=50
+    )
 
 
 @dataclass(frozen=True)

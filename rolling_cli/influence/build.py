@@ -23,11 +23,15 @@ from __future__ import annotations
 
 import functools
 import logging
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..grid import ContactGrid
-from . import Compliance, bem, cache, combine, halfplane
+from . import Compliance, cache, combine, halfplane
+
+if TYPE_CHECKING:  # the BEM package (and scipy.linalg) is imported only when a BEM body is built
+    from . import bem
 
 log = logging.getLogger(__name__)
 
@@ -97,22 +101,31 @@ def clear_memo() -> None:
     _prepared.cache_clear()
 
 
-def _prepare(inputs: dict) -> tuple[bem.Condensed, ContactGrid]:
+def _mesh(inputs: dict) -> tuple[bem.BoundaryMesh, ContactGrid]:
+    from . import bem
+
     grid = ContactGrid(inputs["zone_half_width"], inputs["elements"], 2)
     layer = inputs["kind"] == "layered"
     largest = inputs["depth"] if layer else None
     mesh = bem.body_mesh(grid, inputs["half_width"], inputs["depth"], largest=largest, far_field=not layer)
     log.info("BEM %s: %d elements, %d nodes", inputs["kind"], mesh.elements, mesh.size)
-    return bem.prepare_body(mesh, grid, inputs["young"], inputs["poisson"]), grid
+    return mesh, grid
 
 
 def _compute_bem(inputs: dict) -> Compliance:
-    return bem.compliance(*_prepare(inputs), consume=True)
+    from . import bem
+
+    mesh, grid = _mesh(inputs)
+    return bem.condensed(mesh, grid, inputs["young"], inputs["poisson"])
 
 
 @functools.lru_cache(maxsize=2)
 def _prepared(frozen: tuple) -> bem.Condensed:
-    return _prepare(dict(frozen))[0]
+    from . import bem
+
+    inputs = dict(frozen)
+    mesh, grid = _mesh(inputs)
+    return bem.prepare_body(mesh, grid, inputs["young"], inputs["poisson"])
 
 
 def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarray) -> tuple:
@@ -135,6 +148,8 @@ def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarr
     body = getattr(case.bodies, label)
     if the_plan.effects.influence != "bem" or body.rigid:
         raise ValueError(f"body {label} has no BEM mesh (rigid body or half-plane model)")
+    from . import bem
+
     inputs = bem_inputs(case, the_plan, body)
     sign = 1.0 if label == "A" else -1.0
     return bem.boundary_solution(_prepared(tuple(sorted(inputs.items()))), p_n, sign * np.asarray(p_t))

@@ -33,7 +33,7 @@ from . import Compliance
 
 log = logging.getLogger(__name__)
 
-MODEL_VERSION = 2
+MODEL_VERSION = 3
 _BLOCKS = ("S_nn", "S_nt", "S_tn", "S_tt")
 _ARRAYS = ("x", "weights", "definite_normal", *_BLOCKS)
 

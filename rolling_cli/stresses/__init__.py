@@ -9,8 +9,9 @@ otherwise), from the converged surface tractions of the same discretisation:
 * :mod:`.halfplane`: exact plane-strain fields of a half-plane under the
   contact grid's element tractions (Flamant integrated per element);
 * :mod:`.bem`: interior and boundary stresses of a BEM body from its boundary
-  solution (mesh, u, t) by the Somigliana identity, integrated in closed form;
-* :mod:`.boundary`: that boundary solution for a case's block or layer;
+  solution (mesh, u, t) by the Somigliana identity, integrated in closed form
+  (the solution itself: :func:`rolling_cli.influence.build.boundary_solution`,
+  the influence model's own half-space block or layer);
 * :mod:`.invariants`: sigma_yy, principal stresses, von Mises, Tresca, the
   orthogonal shear range;
 * :mod:`.compute`: the fields of the requested bodies on their (x, z) grids;

@@ -10,10 +10,12 @@ surface, the integral of tau_xz along x over a whole line z = const equals its
 surface integral, -Q for A and +Q for B (Q the tangential force on A).
 Compression is negative.
 
-Models: the closed-form half-plane (:mod:`.halfplane`) for ``influence =
-"half-plane"``, the BEM body's Somigliana identity (:mod:`.bem`) on its full
-boundary solution (:mod:`.boundary`) for ``influence = "bem"``; rigid bodies
-have no field. The grid: nx points over the potential contact zone plus a
+Models: the closed-form half-plane (:mod:`.halfplane`) where the case's
+influence model resolves to "half-plane", the BEM body's Somigliana identity
+(:mod:`.bem`) on the full boundary solution of the influence model's own BEM
+body (:func:`rolling_cli.influence.build.boundary_solution`: the half-space
+block with its far field, or the layer) where it resolves to "bem"; rigid
+bodies have no field. The grid: nx points over the potential contact zone plus a
 margin of :data:`MARGIN` of its half-width on each side (inside a layer's top
 face), nz depths from the surface to ``depth`` a (a layer: to its bond line at
 most, which is then the last row).
@@ -26,8 +28,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import materials
+from ..influence import build
 from ..influence.bem.elements import lagrange_coefficients
-from . import bem, boundary, halfplane, invariants
+from ..influence.choice import influence_model
+from . import bem, halfplane, invariants
 
 #: Field margin beyond the potential contact zone, as a fraction of its half-width.
 MARGIN = 0.25
@@ -58,7 +62,7 @@ def model_name(case, label: str) -> str:
     body = getattr(case.bodies, label)
     if body.rigid:
         return "rigid"
-    if case.discretization.influence == "half-plane":
+    if influence_model(case)[0] == "half-plane":
         return "half-plane"
     return "BEM layer" if body.kind == "layered" else "BEM block"
 
@@ -75,7 +79,7 @@ def field_grid(case, the_plan, label: str) -> tuple[np.ndarray, np.ndarray]:
         thickness = float(body.layer_thickness)
         reach = min(reach, grid.half_width + LAYER_MARGIN * case.discretization.layer_length * thickness)
         depth = min(depth, thickness)
-    elif case.discretization.influence == "bem":
+    elif influence_model(case)[0] == "bem":
         depth = min(depth, BLOCK_DEPTH * case.discretization.block_depth * the_plan.half_width)
     return grid.centre + np.linspace(-reach, reach, nx), np.linspace(0.0, depth, nz)
 
@@ -85,13 +89,13 @@ def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray) -> dict[s
 
     ``p_n`` (<= 0 in compression) and ``p_t`` (on body A along +x) [stress] on
     the plan's contact grid. Half-plane bodies share one evaluation of the
-    integrals (they carry p_n and +-p_t); BEM bodies with the same mesh and
-    material share one boundary solve.
+    integrals (they carry p_n and +-p_t); identical BEM bodies share one
+    factorised boundary system.
     """
     labels = [label for label in case.stresses.bodies if model_name(case, label) != "rigid"]
     if not labels:
         return {}
-    if case.discretization.influence == "half-plane":
+    if influence_model(case)[0] == "half-plane":
         components = _halfplane(case, the_plan, p_n, p_t, labels)
     else:
         components = _bem(case, the_plan, p_n, p_t, labels)
@@ -184,18 +188,5 @@ def bond_line(mesh, t: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def _boundary_solutions(case, the_plan, p_n, p_t, labels) -> dict[str, tuple]:
-    """(mesh, u, t) of the BEM bodies ``labels``; identical bodies share one mesh and one LU."""
-    groups: dict[tuple, list[str]] = {}
-    for label in labels:
-        body = getattr(case.bodies, label)
-        key = (body.kind, body.young, body.poisson, body.layer_thickness)
-        groups.setdefault(key, []).append(label)
-    out = {}
-    for members in groups.values():
-        body = getattr(case.bodies, members[0])
-        mesh = boundary.body_mesh(case, the_plan, body)
-        loads = np.stack([np.stack([p_t if lb == "A" else -p_t, p_n], axis=1) for lb in members])
-        u, t = boundary.solve(mesh, float(body.young), float(body.poisson), loads)
-        for k, label in enumerate(members):
-            out[label] = (mesh, u[k], t[k])
-    return out
+    """(mesh, u, t) of the BEM bodies ``labels``: the influence model's own boundary solution."""
+    return {label: build.boundary_solution(case, the_plan, label, p_n, p_t) for label in labels}

@@ -53,7 +53,15 @@ COORDINATES = ("x", "z", "surface_x", "bond_x")
 
 def write_stresses(node, bodies: dict[str, BodyStresses], units: dict[str, str]) -> None:
     """Write ``bodies`` as the group ``stresses`` of the open HDF5 group ``node``."""
-    group = node.create_group("stresses")
+    write_bodies(node.create_group("stresses"), bodies, units)
+
+
+def write_bodies(group, bodies: dict[str, BodyStresses], units: dict[str, str] | None = None) -> None:
+    """Fill the empty HDF5 ``group`` with one subgroup per body (``A``, ``B``); ``units`` maps "length",
+    "stress" and "1" to unit names (default: each body's ``unit_length``/``unit_stress`` attributes)."""
+    if units is None:
+        first = next(iter(bodies.values())).attributes
+        units = {"length": first.get("unit_length", "length"), "stress": first.get("unit_stress", "stress"), "1": "1"}
     group.attrs["long_name"] = "subsurface stresses of each requested body"
     group.attrs["convention"] = TAU_SIGN + "; compression negative"
     for label, stresses in bodies.items():

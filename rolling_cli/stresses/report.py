@@ -62,6 +62,7 @@ def attach(case, the_plan, result):
     p0 = float(np.max(-result.p_n)) if np.any(result.p_n < 0.0) else math.nan
     for stresses in bodies.values():
         stresses.attributes.update({"length_scale": a, "pressure_scale": p0, **maxima(stresses)})
+        stresses.attributes.update({"unit_length": case.units.length, "unit_stress": case.units.stress})
     result.stresses = bodies
     result.attributes.update(root_attributes(bodies, a, p0))
     result.attributes["time_stresses"] = time.perf_counter() - start

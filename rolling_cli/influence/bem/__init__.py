@@ -1,11 +1,15 @@
 """Boundary element influence of one body, condensed onto the contact nodes.
 
 Pipeline: :mod:`.mesh` (immutable boundary mesh of the rectangular body) ->
-:mod:`.assembly` (H and G from Kelvin's solution, :mod:`.kelvin`, with
-quadratic elements, :mod:`.elements`) -> :mod:`.condense` (one LU, 2 n_c + 2
-right-hand sides, the last two the half-space far field of :mod:`.farfield`)
--> :class:`~rolling_cli.influence.Compliance` in the body's own frame, the
-same interface as the closed-form half-plane.
+:mod:`.assembly` (element integrals of Kelvin's solution, :mod:`.kelvin`, with
+quadratic elements, :mod:`.elements`; in closed form on the element's own
+line, :mod:`.collinear`) -> :mod:`.system` (the mixed boundary system A and
+its 2 n_c + 2 right-hand sides, the last two the half-space far field of
+:mod:`.farfield`, assembled straight from the integrals; a body that is its
+own mirror image, as every body meshed here is, as two systems of half the
+size, :mod:`.symmetry`) -> :mod:`.condense` (one LU in place per system, the
+solves in place) -> :class:`~rolling_cli.influence.Compliance` in the body's
+own frame, the same interface as the closed-form half-plane.
 
 Two bodies are modelled: a **half-space** (an elastic cylinder near its
 contact), truncated to [-W, W] x [-D, 0] with the half-space's far-field
@@ -24,12 +28,13 @@ import numpy as np
 
 from ...grid import ContactGrid
 from .. import Compliance
-from .assembly import assemble
-from .condense import Condensed, boundary_values, contact_compliance, prepare
+from .condense import Condensed, boundary_values, contact_blocks, factorise, prepare, solve
 from .farfield import far_field_values
 from .mesh import BoundaryMesh, rectangle
+from .symmetry import reductions
+from .system import mixed_systems
 
-__all__ = ["BoundaryMesh", "Condensed", "body_mesh", "prepare_body", "condensed", "compliance", "boundary_solution"]
+__all__ = ["BoundaryMesh", "Condensed", "body_mesh", "prepare_body", "condensed", "boundary_solution"]
 
 
 def body_mesh(
@@ -45,41 +50,57 @@ def body_mesh(
     return rectangle(half_width, depth, grid.edges, largest=largest, far_field=far_field)
 
 
-def prepare_body(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float) -> Condensed:
-    """Assemble and factorise a BEM body ([length], E [stress]); the far field's
-    reference depth is the mesh's depth D (the approach is measured from (0, -D))."""
+def _systems(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, far_values, mirror: bool):
     nc = grid.size
     if mesh.contact.size != nc or not np.allclose(mesh.nodes[mesh.contact, 0], grid.x, atol=1e-9 * grid.half_width):
         raise ValueError("the BEM contact nodes do not match the contact grid")
+    if far_values is None:
+        depth = -float(mesh.geometry[..., 1].min())
+        far_values = far_field_values(mesh, young, poisson, depth)
     shear = young / (2.0 * (1.0 + poisson))
-    H, G = assemble(mesh, shear, poisson)
-    depth = -float(mesh.geometry[..., 1].min())
-    far = far_field_values(mesh, young, poisson, depth)
-    return prepare(mesh, H, G, grid.weights, far)
+    parts = reductions(mesh, far_values, grid.weights, mirror)
+    return parts, mixed_systems(mesh, shear, poisson, far_values, parts), far_values
 
 
-def compliance(body: Condensed, grid: ContactGrid, consume: bool = False) -> Compliance:
-    """Condensed compliance of a prepared BEM body on the contact grid [length/stress].
+def prepare_body(
+    mesh: BoundaryMesh,
+    grid: ContactGrid,
+    young: float,
+    poisson: float,
+    far_values: np.ndarray | None = None,
+    mirror: bool = True,
+) -> Condensed:
+    """Assemble and factorise a BEM body ([length], E [stress]) for boundary solutions.
 
-    ``consume=True`` reuses the body's right-hand-side storage (the body
-    cannot be used again): no copy of the (2N, 2 n_c) right-hand sides.
+    ``far_values`` (2N, 2) the prescribed values on ``mesh.far`` per unit
+    resultant force; default the half-space's (:func:`.farfield.far_field_values`,
+    approach measured from (0, -D), D the mesh's depth). ``mirror``: split a
+    mirror-symmetric body into its two halves (:mod:`.symmetry`; the same
+    answer to round-off, a quarter of the work).
     """
-    nc = grid.size
-    c4 = contact_compliance(body, consume).reshape(nc, 2, nc, 2)  # (node i, u_x/u_y, node j, t_x/t_y)
-    return Compliance(
-        x=grid.x,
-        weights=grid.weights,
-        S_nn=-c4[:, 1, :, 1].copy(),
-        S_nt=-c4[:, 1, :, 0].copy(),
-        S_tn=c4[:, 0, :, 1].copy(),
-        S_tt=c4[:, 0, :, 0].copy(),
-        definite_normal=True,
-    )
+    parts, systems, far_values = _systems(mesh, grid, young, poisson, far_values, mirror)
+    return prepare(mesh, parts, systems, grid.weights, far_values)
 
 
-def condensed(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float) -> Compliance:
-    """Condensed compliance of a BEM body on the contact grid [length/stress]."""
-    return compliance(prepare_body(mesh, grid, young, poisson), grid, consume=True)
+def condensed(
+    mesh: BoundaryMesh,
+    grid: ContactGrid,
+    young: float,
+    poisson: float,
+    far_values: np.ndarray | None = None,
+    mirror: bool = True,
+) -> Compliance:
+    """Condensed compliance of a BEM body on the contact grid [length/stress] (``far_values`` and
+    ``mirror`` as :func:`prepare_body`). Each system is factorised and solved in place, and the
+    LUs are released before the blocks are formed: the peak is the systems' A and R."""
+    parts, systems, _ = _systems(mesh, grid, young, poisson, far_values, mirror)
+    solutions = []
+    while systems:
+        system = systems.pop(0)
+        solutions.append(solve(factorise(system.matrix), system.rhs, overwrite=True))
+        del system  # its LU
+    blocks = contact_blocks(solutions, parts, mesh, grid.weights)
+    return Compliance(x=grid.x, weights=grid.weights, definite_normal=True, **blocks)
 
 
 def boundary_solution(body: Condensed, p_n: np.ndarray, p_t: np.ndarray) -> tuple[BoundaryMesh, np.ndarray, np.ndarray]:

@@ -1,31 +1,38 @@
 """Assembly of the BEM matrices H and G (collocation at the functional nodes).
 
 For collocation node i and element e, the integrals of T_kl N_j and U_kl N_j
-over e are computed in one of three ways, vectorised over all pairs of a kind
-and their quadrature points:
+over e are computed in one of three ways, vectorised over all pairs of a kind:
 
-* **singular** (i is a node of e; elements are straight): the log part of U is
-  integrated in closed form (:func:`rolling_cli.kernels.log_moments`), the rest
-  of U is constant along the element; for T, dr/dn = 0 and T N_j J reduces to a
-  constant times N_j(xi) / (xi - xi_i), a polynomial for j != i, integrated
-  exactly. The strongly singular N_i part of T and the free term are not
-  computed: the diagonal 2x2 blocks of H come from the rigid-body condition
-  (rows of H sum to zero for each direction).
-* **nearly singular** (distance from i to e below ``NEAR`` element lengths, as
-  for neighbours of discontinuous nodes or across a thin layer): the element
+* **collinear** (i lies on the straight line of e: its own element, and every
+  element of the same side, so the whole top face for a top-face node; most
+  pairs): in closed form (:mod:`.collinear`). The strongly singular own-node
+  part of T and the free term are not computed: the diagonal 2x2 blocks of H
+  come from the rigid-body condition (rows of H sum to zero for each
+  direction).
+* **nearly singular** (not collinear, distance from i to e below ``NEAR``
+  element lengths: nodes near a corner, or across a thin layer): the element
   is cut into sub-intervals graded geometrically towards the point of e
   nearest to i, each no longer than its distance to i, with ``GAUSS_NEAR``
   Gauss points on each (error < 1e-13 for a pole at one sub-interval length).
 * **regular**: ``GAUSS`` Gauss points (error < 1e-12 at the ``NEAR`` threshold).
+
+The element geometry and the regular rule's points are computed once
+(:class:`Geometry`). The integrals come a block of elements at a time
+(:func:`element_blocks`; each block (e, 3, 2, P, 2) for H and for G, P
+collocation nodes, at most :data:`BLOCK` doubles together, in two reused
+buffers), and a consumer adds them into the columns it needs:
+:func:`assemble` into the dense H and G, :func:`.system.mixed_systems`
+straight into the boundary systems.
 """
 
 from __future__ import annotations
 
-import numpy as np
-import scipy.sparse
+from collections.abc import Iterator
+from dataclasses import dataclass
 
-from ...kernels import log_moments
-from . import kelvin
+import numpy as np
+
+from . import collinear, kelvin
 from .elements import evaluate, gauss, lagrange_coefficients, map_points
 from .mesh import BoundaryMesh
 
@@ -33,7 +40,70 @@ NEAR = 1.0
 GAUSS = 10
 GAUSS_NEAR = 12
 GRADING = 0.5
-_CHUNK = 2_000_000  # quadrature points per vectorised chunk (bounds memory)
+#: A node closer to an element's line than this fraction of the element's length lies on it.
+ON_LINE = 1e-9
+#: Quadrature points per vectorised chunk of the regular and nearly singular rules (bounds memory).
+_CHUNK = 50_000
+#: Doubles of one element block's H and G integrals together (bounds memory).
+BLOCK = 1_000_000
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Per-element data shared by every block: straight elements (E,) with start ``p0`` (E, 2),
+    unit ``tangent`` (E, 2), ``half``-length J [length], shape-function ``coeff`` (E, 3, 3), the
+    ``line`` (E,) each lies on (a number per straight line and direction); the regular rule's
+    ``points`` and ``normals`` (E, GAUSS, 2) and weighted shapes ``weighted`` (E, GAUSS, 3) =
+    w_g J N_j(xi_g) [length]."""
+
+    p0: np.ndarray
+    tangent: np.ndarray
+    half: np.ndarray
+    coeff: np.ndarray
+    line: np.ndarray
+    points: np.ndarray
+    normals: np.ndarray
+    weighted: np.ndarray
+
+
+def geometry(mesh: BoundaryMesh) -> Geometry:
+    """The shared element data of ``mesh`` (straight elements only)."""
+    p0, mid, p2 = mesh.geometry[:, 0], mesh.geometry[:, 1], mesh.geometry[:, 2]
+    chord = p2 - p0
+    length = np.linalg.norm(chord, axis=1)
+    if not np.allclose(mid, 0.5 * (p0 + p2), atol=1e-12 * length.max()):
+        raise NotImplementedError("the BEM assembly is implemented for straight elements")
+    coeff = lagrange_coefficients(mesh.local)  # (E, 3, 3)
+    xg, wg = gauss(GAUSS)  # an even order: no Gauss point sits on a node
+    points, normals, jac = map_points(mesh.geometry, xg)
+    weighted = (wg[None, :] * jac)[..., None] * evaluate(coeff, np.broadcast_to(xg, jac.shape))
+    tangent = chord / length[:, None]
+    size = float(np.abs(mesh.nodes).max())
+    offset = (p0[:, 0] * tangent[:, 1] - p0[:, 1] * tangent[:, 0]) / size  # the line's signed distance from 0
+    _, line = np.unique(np.round(np.column_stack([tangent, offset]), 9), axis=0, return_inverse=True)
+    return Geometry(p0, tangent, 0.5 * length, coeff, line.ravel(), points, normals, weighted)
+
+
+def element_blocks(
+    mesh: BoundaryMesh, shear: float, poisson: float, points: np.ndarray | None = None
+) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Yield ``(elements, h, g)``: element numbers (e,) and their integrals, each (e, 3, 2, P, 2).
+
+    h[q, j, l, p, k] = int T_kl N_j over element ``elements[q]`` for collocation
+    node ``points[p]`` (default every node; zero for the own-node term),
+    likewise g with U_kl [length/stress times length]: a node's column (j, l)
+    of H is contiguous. ``shear`` G [stress], ``poisson`` nu. h and g are views
+    of two buffers reused by the next block: use them before asking for it.
+    """
+    geo = geometry(mesh)
+    points = np.arange(mesh.size) if points is None else np.asarray(points)
+    step = max(1, BLOCK // (24 * points.size))  # 12 doubles of H and 12 of G per node-element pair
+    buffers = np.empty((2, min(step, mesh.elements), 3, 2, points.size, 2))
+    for start in range(0, mesh.elements, step):
+        elements = np.arange(start, min(mesh.elements, start + step))
+        h, g = buffers[0, : elements.size], buffers[1, : elements.size]
+        _block(mesh, geo, points, elements, shear, poisson, h, g)
+        yield elements, h, g
 
 
 def assemble(mesh: BoundaryMesh, shear: float, poisson: float) -> tuple[np.ndarray, np.ndarray]:
@@ -43,57 +113,101 @@ def assemble(mesh: BoundaryMesh, shear: float, poisson: float) -> tuple[np.ndarr
     equations at node i; columns 2j, 2j+1 the x and y components at node j.
     """
     n = mesh.size
-    coeff = lagrange_coefficients(mesh.local)  # (E, 3, 3)
-    h_loc = np.zeros((n, mesh.elements, 3, 2, 2))
-    g_loc = np.zeros((n, mesh.elements, 3, 2, 2))
-    singular, near, regular = _classify(mesh)
-    _regular(mesh, coeff, regular, shear, poisson, h_loc, g_loc)
-    _near(mesh, coeff, near, shear, poisson, h_loc, g_loc)
-    _singular(mesh, coeff, singular, shear, poisson, h_loc, g_loc)
-    H = _scatter(mesh, h_loc)
-    G = _scatter(mesh, g_loc)
-    # rigid-body condition: each row of H sums to zero per displacement direction
-    for k in range(2):
-        for l in range(2):
-            rows = 2 * np.arange(n) + k
-            cols = 2 * np.arange(n) + l
-            H[rows, cols] = 0.0
-            H[rows, cols] = -H[rows, l::2].sum(axis=1)
-    return H, G
+    # built transposed, (column node j, l, row node i, k): a block's columns are contiguous
+    H_t = np.zeros((n, 2, n, 2))
+    G_t = np.zeros((n, 2, n, 2))
+    for elements, h, g in element_blocks(mesh, shear, poisson):
+        for a in range(3):  # within one slot a, the nodes of distinct elements are distinct
+            nodes = mesh.connectivity[elements, a]
+            H_t[nodes] += h[:, a]
+            G_t[nodes] += g[:, a]
+    rows = np.arange(n)
+    H_t[rows, :, rows, :] = -H_t.sum(axis=0).transpose(1, 0, 2)  # rigid-body condition; own-node terms are zero
+    return H_t.reshape(2 * n, 2 * n).T, G_t.reshape(2 * n, 2 * n).T
 
 
-def _scatter(mesh: BoundaryMesh, local: np.ndarray) -> np.ndarray:
-    """Sum element-node contributions (N, E, 3, 2, 2) into a (2N, 2N) matrix.
+def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np.ndarray):
+    """The pairs of collocation nodes ``points`` and ``elements`` by kind, both numbered locally (p, q).
 
-    A shared (continuous) node collects the columns of both its elements:
-    the sum is a product with the sparse element-node incidence matrix.
+    Returns ``collinear``: per line among the elements, (q (e,), its points p
+    (n,), c (e, n), own (e, n)): every point on that line against every element
+    on it, with the point's local coordinate c on the element's line and its
+    position among the element's nodes (-1: none); ``near`` (p, q, t, dist):
+    the nearest point's fraction t along the element and the distance
+    [length]; ``regular`` (p, q).
     """
-    n = mesh.size
-    cols = mesh.connectivity.reshape(-1)
-    incidence = scipy.sparse.csr_matrix((np.ones(cols.size), (np.arange(cols.size), cols)), shape=(cols.size, n))
-    flat = local.transpose(0, 3, 1, 2, 4).reshape(2 * n, mesh.elements * 3, 2)  # rows (i, k), cols (e, a), l
-    out = np.empty((2 * n, n, 2))
-    for l in range(2):
-        out[:, :, l] = (incidence.T @ flat[:, :, l].T).T
-    return out.reshape(2 * n, 2 * n)
+    p0, tangent, half = geo.p0[elements], geo.tangent[elements], geo.half[elements]
+    rel = mesh.nodes[points][:, None, :] - p0[None]  # (P, e, 2)
+    along = np.einsum("ned,ed->ne", rel, tangent)
+    across = rel[..., 1] * tangent[None, :, 0] - rel[..., 0] * tangent[None, :, 1]
+    length = 2.0 * half[None, :]
+    on_line = np.abs(across) <= ON_LINE * length
+    position = np.full(mesh.size, -1)
+    position[points] = np.arange(points.size)
+    member = np.full(on_line.shape, -1)
+    q = np.arange(elements.size)
+    for a in range(3):
+        p = position[mesh.connectivity[elements, a]]
+        member[p[p >= 0], q[p >= 0]] = a
+    collinear = []
+    lines = geo.line[elements]
+    for line in np.unique(lines):
+        qs = np.flatnonzero(lines == line)
+        nodes = np.flatnonzero(on_line[:, qs[0]])
+        if not on_line[nodes][:, qs].all() or np.count_nonzero(on_line[:, qs]) != nodes.size * qs.size:
+            raise ValueError("elements of one line see different nodes on it")
+        own = member[nodes][:, qs].T
+        c = along[nodes][:, qs].T / half[qs, None] - 1.0
+        inside = own >= 0
+        c[inside] = mesh.local[elements[qs, None], np.maximum(own, 0)][inside]
+        collinear.append((qs, nodes, c, own))
+    t = np.clip(along / length, 0.0, 1.0)
+    dist = np.hypot(along - t * length, across)
+    near = ~on_line & (dist < NEAR * length)
+    i_near, q_near = np.nonzero(near)
+    i_reg, q_reg = np.nonzero(~on_line & ~near)
+    return collinear, (i_near, q_near, t[near], dist[near]), (i_reg, q_reg)
 
 
-def _classify(mesh: BoundaryMesh):
-    """Singular pairs (i, e); nearly singular pairs with their nearest point and
-    distance; and the (N, E) mask of the regular pairs."""
-    n, ne = mesh.size, mesh.elements
-    member = np.zeros((n, ne), dtype=bool)
-    member[mesh.connectivity, np.arange(ne)[:, None]] = True
-    p0, p2 = mesh.geometry[:, 0], mesh.geometry[:, 2]
-    seg = p2 - p0
-    length = np.linalg.norm(seg, axis=1)
-    rel = mesh.nodes[:, None, :] - p0[None, :, :]
-    t = np.clip(np.einsum("ned,ed->ne", rel, seg) / length**2, 0.0, 1.0)
-    closest = p0[None] + t[..., None] * seg[None]
-    dist = np.linalg.norm(mesh.nodes[:, None, :] - closest, axis=2)
-    near = ~member & (dist < NEAR * length[None, :])
-    regular = ~member & ~near
-    return np.argwhere(member), (np.argwhere(near), t[near], dist[near]), regular
+def _block(mesh, geo, points, elements, shear, poisson, h, g) -> None:
+    """The integrals of ``elements`` into h and g (:func:`element_blocks`); every pair is of exactly one kind."""
+    collinear_runs, near, regular = classify(mesh, geo, points, elements)
+    for qs, nodes, c, own in collinear_runs:
+        e = elements[qs]
+        rows, columns = _span(qs), _span(nodes)
+        if isinstance(rows, slice) and isinstance(columns, slice):  # written in place
+            out = (h[rows, :, :, columns], g[rows, :, :, columns])
+            collinear.integrals(c, own, geo.coeff[e], geo.half[e], geo.tangent[e], shear, poisson, out)
+            continue
+        values = collinear.integrals(c, own, geo.coeff[e], geo.half[e], geo.tangent[e], shear, poisson)
+        if isinstance(rows, slice) or isinstance(columns, slice):
+            h[rows, :, :, columns], g[rows, :, :, columns] = values
+        else:  # neither is a contiguous range: one element at a time
+            for k, q in enumerate(qs):
+                h[q, :, :, nodes], g[q, :, :, nodes] = (v[k].transpose(2, 0, 1, 3) for v in values)
+    i, q, t, dist = near
+    if i.size:
+        values = near_integrals(mesh, geo, np.column_stack([points[i], elements[q]]), t, dist, shear, poisson)
+        _put(h, g, q, i, [v.swapaxes(-1, -2) for v in values])
+    i, q = regular
+    values = regular_integrals(mesh, geo, points[i], elements[q], shear, poisson)
+    _put(h, g, q, i, [v.swapaxes(-1, -2) for v in values])
+
+
+def _span(index: np.ndarray):
+    """A slice for a contiguous increasing index array, else the array."""
+    if index.size and index[-1] - index[0] == index.size - 1 and np.all(np.diff(index) == 1):
+        return slice(int(index[0]), int(index[-1]) + 1)
+    return index
+
+
+def _put(h, g, q, i, values) -> None:
+    """h[q, :, :, i, :], g[...] = values (P, 3, 2, 2) each, through flat indices (faster than two index arrays)."""
+    n = h.shape[3]
+    offsets = (np.arange(3)[:, None, None] * 4 * n + np.arange(2)[None, :, None] * 2 * n + np.arange(2)).ravel()
+    flat = ((q * (12 * n) + 2 * i)[:, None] + offsets).ravel()
+    h.reshape(-1)[flat] = values[0].reshape(-1)
+    g.reshape(-1)[flat] = values[1].reshape(-1)
 
 
 def _contract(kernel: np.ndarray, weighted_shape: np.ndarray) -> np.ndarray:
@@ -105,43 +219,29 @@ def _contract(kernel: np.ndarray, weighted_shape: np.ndarray) -> np.ndarray:
     return out.reshape(*lead, weighted_shape.shape[-1], 2, 2)
 
 
-def _integrate(points_xi, weights, pairs, mesh, coeff, shear, poisson, h_loc, g_loc):
-    """Accumulate quadrature over individual pairs: points_xi/weights (P, Q) per pair."""
-    i, e = pairs[:, 0], pairs[:, 1]
-    pts, nrm, jac = map_points(mesh.geometry[e], points_xi)
-    d = pts - mesh.nodes[i][:, None, :]
-    shape = evaluate(coeff[e], points_xi)  # (P, Q, 3)
-    ws = (weights * jac)[..., None] * shape
-    # pairs are unique within a call, so fancy-index accumulation is safe
-    g_loc[i, e] += _contract(kelvin.displacement_kernel(d, shear, poisson), ws)
-    h_loc[i, e] += _contract(kelvin.traction_kernel(d, nrm, poisson), ws)
-
-
 def _chunks(count: int, per_item: int):
     step = max(1, _CHUNK // max(per_item, 1))
     for start in range(0, count, step):
         yield slice(start, min(count, start + step))
 
 
-def _regular(mesh, coeff, regular, shear, poisson, h_loc, g_loc):
-    """All pairs with one Gauss rule: geometry and shapes once per element, kernels densely
-    over chunks of collocation points; the pairs that are not regular are discarded."""
-    xg, wg = gauss(GAUSS)  # an even order: no Gauss point sits on a node
-    pts, nrm, jac = map_points(mesh.geometry, xg)  # (E, G, 2)
-    ws = (wg[None, :] * jac)[..., None] * evaluate(coeff, np.broadcast_to(xg, jac.shape))  # (E, G, 3)
-    for part in _chunks(mesh.size, mesh.elements * GAUSS * 10):
-        d = pts[None] - mesh.nodes[part, None, None, :]  # (c, E, G, 2)
-        keep = regular[part][..., None, None, None]
-        g_loc[part] += np.where(keep, _contract(kelvin.displacement_kernel(d, shear, poisson), ws), 0.0)
-        h_loc[part] += np.where(keep, _contract(kelvin.traction_kernel(d, nrm[None], poisson), ws), 0.0)
+def regular_integrals(mesh, geo, nodes, elements, shear, poisson) -> tuple[np.ndarray, np.ndarray]:
+    """The ``GAUSS``-point rule for pairs (nodes[p], elements[p]): H and G integrals, each (P, 3, 2, 2)."""
+    h = np.empty((nodes.size, 3, 2, 2))
+    g = np.empty_like(h)
+    for part in _chunks(nodes.size, GAUSS):
+        e = elements[part]
+        d = geo.points[e] - mesh.nodes[nodes[part], None, :]  # (p, G, 2)
+        g[part] = _contract(kelvin.displacement_kernel(d, shear, poisson), geo.weighted[e])
+        h[part] = _contract(kelvin.traction_kernel(d, geo.normals[e], poisson), geo.weighted[e])
+    return h, g
 
 
-def _near(mesh, coeff, near, shear, poisson, h_loc, g_loc):
-    """Graded subdivision towards the nearest point of the element."""
-    pairs, t, dist = near
-    if len(pairs) == 0:
-        return
-    length = mesh.lengths[pairs[:, 1]]
+def near_integrals(mesh, geo, pairs, t, dist, shear, poisson) -> tuple[np.ndarray, np.ndarray]:
+    """Graded subdivision towards the nearest point of the element, for pairs (P, 2) of (node,
+    element) with the nearest point's fraction ``t`` along the element and its distance ``dist``
+    [length]: H and G integrals, each (P, 3, 2, 2)."""
+    length = 2.0 * geo.half[pairs[:, 1]]
     centre = 2.0 * t - 1.0  # nearest point in local coordinates
     d_xi = np.maximum(2.0 * dist / length, 1e-12)  # distance in local units
     levels = int(np.ceil(np.log(max(2.0 / d_xi.min(), 1.0)) / np.log(1.0 / GRADING))) + 1
@@ -159,43 +259,13 @@ def _near(mesh, coeff, near, shear, poisson, h_loc, g_loc):
     per = xi.shape[1] * xi.shape[2]
     xi = xi.reshape(len(pairs), per)
     w = w.reshape(len(pairs), per)
+    h = np.empty((len(pairs), 3, 2, 2))
+    g = np.empty_like(h)
     for part in _chunks(len(pairs), per):
-        _integrate(xi[part], w[part], pairs[part], mesh, coeff, shear, poisson, h_loc, g_loc)
-
-
-def _singular(mesh, coeff, pairs, shear, poisson, h_loc, g_loc):
-    """Closed-form integrals over the (straight) element holding the collocation node."""
-    i, e = pairs[:, 0], pairs[:, 1]
-    a = np.argmax(mesh.connectivity[e] == i[:, None], axis=1)  # position of i in e
-    xi_c = mesh.local[e, a]
-    p0, p2 = mesh.geometry[e, 0], mesh.geometry[e, 2]
-    mid = mesh.geometry[e, 1]
-    if not np.allclose(mid, 0.5 * (p0 + p2), atol=1e-12 * np.abs(p2 - p0).max()):
-        raise NotImplementedError("singular integration is implemented for straight elements")
-    chord = p2 - p0
-    jac = 0.5 * np.linalg.norm(chord, axis=1)
-    tan = chord / (2.0 * jac[:, None])
-    nrm = np.stack([tan[:, 1], -tan[:, 0]], axis=1)
-    C = coeff[e]  # (P, k, m)
-    moments = np.array([2.0, 0.0, 2.0 / 3.0])
-    integral_n = C @ moments  # int N_k
-    log_int = np.einsum("pkm,pm->pk", C, log_moments(xi_c))  # int N_k ln|xi - xi_c|
-    cu = 1.0 / (8.0 * np.pi * shear * (1.0 - poisson))
-    g = (
-        cu
-        * jac[:, None, None, None]
-        * (
-            (3.0 - 4.0 * poisson)
-            * (-np.log(jac)[:, None] * integral_n - log_int)[:, :, None, None]
-            * np.eye(2)[None, None]
-            + integral_n[:, :, None, None] * (tan[:, :, None] * tan[:, None, :])[:, None]
-        )
-    )
-    g_loc[i, e] += g
-    # T N_k J = (1-2nu)/(4 pi (1-nu)) (t_k n_l - t_l n_k) N_k(xi)/(xi - xi_c), for k != i:
-    # N_k(xi)/(xi - xi_c) = A2 xi + (A1 + A2 xi_c), whose integral over [-1, 1] is 2 (A1 + A2 xi_c)
-    poly = 2.0 * (C[:, :, 1] + C[:, :, 2] * xi_c[:, None])
-    poly[np.arange(len(pairs)), a] = 0.0  # the node's own term goes to the rigid-body diagonal
-    skew = tan[:, :, None] * nrm[:, None, :] - tan[:, None, :] * nrm[:, :, None]
-    h = (1.0 - 2.0 * poisson) / (4.0 * np.pi * (1.0 - poisson)) * poly[:, :, None, None] * skew[:, None]
-    h_loc[i, e] += h
+        i, e = pairs[part, 0], pairs[part, 1]
+        pts, nrm, jac = map_points(mesh.geometry[e], xi[part])
+        d = pts - mesh.nodes[i][:, None, :]
+        ws = (w[part] * jac)[..., None] * evaluate(geo.coeff[e], xi[part])  # (p, Q, 3)
+        g[part] = _contract(kelvin.displacement_kernel(d, shear, poisson), ws)
+        h[part] = _contract(kelvin.traction_kernel(d, nrm, poisson), ws)
+    return h, g

@@ -14,6 +14,13 @@ displacements are then linear in t_c, and all 2 n_c unit load cases plus the
 2 far-field ones share one LU factorisation of A (many right-hand sides):
 
     C = (A^-1 B E_c)_c + (A^-1 B V)_c W.
+
+:mod:`.system` assembles A and R = [B E_c | B V] directly, column-major, with
+the contact unknowns first, for each reduction of :mod:`.symmetry` (the whole
+system, or the two mirror halves of a symmetric body); here each A is
+factorised in place (LAPACK getrf), its right-hand sides are solved in place
+(getrs), and the first rows of the solutions give C. One LU per reduction, no
+copies of A.
 """
 
 from __future__ import annotations
@@ -21,83 +28,110 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.linalg
+from scipy.linalg import lapack
 
 from .mesh import BoundaryMesh
+from .symmetry import Reduction
+
+#: Rows of a compliance block updated at once by the far field's rank-one terms (bounds a temporary).
+_ROWS = 256
 
 
 def boundary_system(mesh: BoundaryMesh, H: np.ndarray, G: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The square system A X = B y: X the unknown boundary values (u where the
-    traction is known, t where u is known), y the known values; returns (A, B)."""
+    """The dense square system A X = B y from H and G, in node order: X the unknown
+    boundary values (u where the traction is known, t where u is known), y the
+    known values; returns (A, B). (The model itself assembles A straight from
+    the element integrals, :mod:`.system`; this form serves checks.)"""
     fixed = np.repeat(mesh.fixed, 2)
     A = np.where(fixed[None, :], -G, H)
     B = np.where(fixed[None, :], -H, G)
     return A, B
 
 
-def contact_dofs(mesh: BoundaryMesh) -> np.ndarray:
-    """Degrees of freedom (2i, 2i + 1) of the contact nodes, in increasing x."""
-    return (2 * mesh.contact[:, None] + np.arange(2)[None, :]).reshape(-1)
+def factorise(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """LU of a column-major float64 matrix, in place (its storage becomes the factors): (lu, pivots)."""
+    lu, pivots, info = lapack.dgetrf(matrix, overwrite_a=True)
+    if info > 0:
+        raise np.linalg.LinAlgError("the BEM boundary system is singular")
+    return lu, pivots
 
 
-def factorise(A: np.ndarray) -> tuple:
-    """LU of the boundary system, in LAPACK's column-major layout."""
-    return scipy.linalg.lu_factor(np.asfortranarray(A), overwrite_a=True, check_finite=False)
+def solve(factors: tuple[np.ndarray, np.ndarray], rhs: np.ndarray, overwrite: bool = False) -> np.ndarray:
+    """A^-1 rhs for the factors of :func:`factorise`; ``overwrite`` solves in the (column-major) rhs."""
+    x, info = lapack.dgetrs(*factors, rhs, overwrite_b=overwrite)
+    if info != 0:
+        raise ValueError(f"getrs: illegal argument {-info}")
+    return x
 
 
-def resultant_weights(weights: np.ndarray) -> np.ndarray:
-    """W (2, 2 n_c): the resultant force F_l = sum_j w_j t_(j, l) of contact nodal tractions."""
-    out = np.zeros((2, weights.size, 2))
-    out[0, :, 0] = weights
-    out[1, :, 1] = weights
-    return out.reshape(2, 2 * weights.size)
+def contact_blocks(
+    solutions: list[np.ndarray], parts: list[Reduction], mesh: BoundaryMesh, weights: np.ndarray
+) -> dict[str, np.ndarray]:
+    """The body's compliance blocks from the solved right-hand sides [length/stress], each (n_c, n_c).
+
+    ``solutions[r]`` = A^-1 R of reduction ``parts[r]`` (:mod:`.system`):
+    rows its unknowns (contact displacement parameters first), columns its
+    contact parameters' unit loads, then its far-field forces; ``weights``
+    (n_c,) [length] the contact quadrature weights (F = sum_j w_j t_j). The
+    far field's terms are added into the solutions (in place). In the body's
+    frame the displacement into the body is -u_y, p_n = t_y and p_t = t_x:
+    S_tt = du_x/dt_x, S_tn = du_x/dt_y, S_nt = -du_y/dt_x, S_nn = -du_y/dt_y.
+    C-contiguous arrays.
+    """
+    contact = mesh.contact
+    nc = contact.size
+    responses = []
+    for solution, part in zip(solutions, parts, strict=True):
+        m = part.contact
+        response = solution[:m, :m]
+        for column, axis in enumerate(part.forces):  # + (du/dF) F of each parameter's unit load
+            valid = part.unknown[contact, axis] >= 0
+            loaded = contact[valid]
+            load = weights[valid] * part.sign[loaded, axis]
+            resultant = np.bincount(part.unknown[loaded, axis], weights=load, minlength=m)
+            far = solution[:m, m + column]
+            for start in range(0, m, _ROWS):
+                response[:, start : start + _ROWS] += np.outer(far, resultant[start : start + _ROWS])
+        responses.append(response)
+    out = {}
+    for name, k, l, sign in (("S_tt", 0, 0, 1.0), ("S_tn", 0, 1, 1.0), ("S_nt", 1, 0, -1.0), ("S_nn", 1, 1, -1.0)):
+        block = np.zeros((nc, nc))
+        for response, part in zip(responses, parts, strict=True):
+            rows = np.maximum(part.unknown[contact, k], 0)  # the factor is 0 where a half has no parameter
+            cols = np.maximum(part.unknown[contact, l], 0)
+            row_factor = sign * part.sign[contact, k]
+            col_factor = part.weight[contact, l]
+            for start in range(0, nc, _ROWS):  # in row chunks: bounded temporaries
+                part_rows = slice(start, start + _ROWS)
+                gathered = response[np.ix_(rows[part_rows], cols)]
+                gathered *= row_factor[part_rows, None]
+                gathered *= col_factor[None, :]
+                block[part_rows] += gathered
+        out[name] = block
+    return out
 
 
 @dataclass(frozen=True)
 class Condensed:
     """A factorised BEM body, ready for load cases (plain arrays, read-only use).
 
-    ``lu`` the LU of A; ``rhs`` = [B E_c | B V] (2N, 2 n_c + 2), column-major:
-    the right-hand sides per unit contact traction and per unit resultant
-    force; ``far_values`` = V (2N, 2); ``resultant`` = W (2, 2 n_c).
+    Per reduction (``parts``, :mod:`.symmetry`): ``factors`` the LU of its A and
+    ``rhs`` its R = [B E_c | B V]; ``far_values`` = V (2N, 2) [length /
+    (force/length)]; ``weights`` (n_c,) the contact quadrature weights [length].
     """
 
     mesh: BoundaryMesh
-    lu: tuple
-    rhs: np.ndarray
+    parts: list
+    factors: list
+    rhs: list
     far_values: np.ndarray
-    resultant: np.ndarray
+    weights: np.ndarray
 
 
-def prepare(mesh: BoundaryMesh, H: np.ndarray, G: np.ndarray, weights: np.ndarray, far_values: np.ndarray) -> Condensed:
-    """Factorise the boundary system of ``mesh`` and form its load right-hand sides.
-
-    ``weights`` (n_c,) are the contact nodes' quadrature weights [length];
-    ``far_values`` (2N, 2) the prescribed values per unit resultant force
-    (:func:`.farfield.far_field_values`; zeros for a body without far field).
-    """
-    A, B = boundary_system(mesh, H, G)
-    dofs = contact_dofs(mesh)
-    rhs = np.empty((B.shape[0], dofs.size + 2), order="F")
-    rhs[:, : dofs.size] = B[:, dofs]
-    np.matmul(B, far_values, out=rhs[:, dofs.size :])
-    return Condensed(mesh, factorise(A), rhs, far_values, resultant_weights(weights))
-
-
-def contact_compliance(body: Condensed, consume: bool = False) -> np.ndarray:
-    """Contact displacements per unit contact nodal traction, (2 n_c, 2 n_c) [length/stress].
-
-    Row 2i + k: displacement component k (x, y) at contact node i; column
-    2j + l: unit traction component l at contact node j. Contact nodes in
-    increasing x. One LU, 2 n_c + 2 right-hand sides. ``consume=True`` solves
-    in the body's own right-hand sides (no copy; the body is unusable after).
-    """
-    dofs = contact_dofs(body.mesh)
-    solution = scipy.linalg.lu_solve(body.lu, body.rhs, overwrite_b=consume, check_finite=False)[dofs]
-    n = dofs.size
-    flex = solution[:, :n]
-    flex += solution[:, n:] @ body.resultant
-    return flex
+def prepare(mesh: BoundaryMesh, parts: list, systems: list, weights: np.ndarray, far_values: np.ndarray) -> Condensed:
+    """Factorise the ``systems`` of the reductions ``parts`` (in place: each matrix becomes its LU)."""
+    factors = [factorise(system.matrix) for system in systems]
+    return Condensed(mesh, parts, factors, [system.rhs for system in systems], far_values, weights)
 
 
 def boundary_values(body: Condensed, tractions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -107,12 +141,19 @@ def boundary_values(body: Condensed, tractions: np.ndarray) -> tuple[np.ndarray,
     increasing x. Returns u (N, 2) [length] and t (N, 2) [stress] at the
     mesh nodes, far-field conditions included.
     """
-    t_c = np.asarray(tractions, dtype=float).reshape(-1)
-    force = body.resultant @ t_c
-    solution = scipy.linalg.lu_solve(body.lu, body.rhs @ np.concatenate([t_c, force]), check_finite=False)
-    known = body.far_values @ force
-    known[contact_dofs(body.mesh)] = t_c
-    fixed = np.repeat(body.mesh.fixed, 2)
-    u = np.where(fixed, known, solution)
-    t = np.where(fixed, solution, known)
-    return u.reshape(-1, 2), t.reshape(-1, 2)
+    t_c = np.asarray(tractions, dtype=float)
+    mesh = body.mesh
+    contact = mesh.contact
+    force = body.weights @ t_c  # (F_x, F_y)
+    unknown = np.zeros((mesh.size, 2))  # u where the traction is known, t where u is
+    for part, factors, rhs in zip(body.parts, body.factors, body.rhs, strict=True):
+        valid = part.unknown[contact] >= 0
+        weighted = (part.weight[contact] * t_c)[valid]
+        loads = np.bincount(part.unknown[contact][valid], weights=weighted, minlength=part.contact)
+        solution = solve(factors, rhs @ np.concatenate([loads, force[list(part.forces)]]))
+        kept = part.unknown >= 0
+        unknown[kept] += part.sign[kept] * solution[part.unknown[kept]]
+    known = body.far_values.reshape(mesh.size, 2, 2) @ force  # (N, 2): the far field, zero elsewhere
+    known[contact] = t_c
+    fixed = mesh.fixed[:, None]
+    return np.where(fixed, known, unknown), np.where(fixed, unknown, known)

@@ -1,0 +1,244 @@
+"""The adaptive mesh levels of a solve: accuracy on demand (``[discretization] tolerance``).
+
+:class:`rolling_cli.pipeline.MeshPath` walks the mesh levels of a solve with
+the continuation driver. With a tolerance, after the case's own grid (and any
+enlarged zone) it asks :meth:`Adaptation.next_grid` for one more level at a
+time, from the last solved one:
+
+1. **the estimate** of the level's maximum traction error
+   (:func:`.accuracy.estimate`: the traction jumps and the kink motion), as a
+   fraction of mu p0 (of p0 when mu = 0). It was never below the true error
+   over the study, so it is compared with the tolerance as it is, without a
+   further safety factor (see :data:`SAFETY`);
+2. **stop** when the estimate meets the tolerance; or, with a message naming
+   the estimate reached: after ``discretization.max_refinements``
+   refinements; when the estimate stops falling (:data:`STALL`: the request
+   lies below what the model resolves, the smallest elements at their
+   round-off floor); when the next mesh would exceed :data:`MAX_ELEMENTS`
+   or the memory available; on the BEM, when the uniform mesh the estimate
+   asks for exceeds :data:`MAX_UNIFORM_ELEMENTS`;
+3. **the next grid**: on the half-plane model a grid graded towards the
+   located kinks (contact edges, stick/slip boundaries) with the indicator's
+   element-length field elsewhere, elements far below the target allowed to
+   grow (:func:`.remesh.next_grid`); on the BEM, whose contact grid must be
+   uniform (its mesh and influence cache assume equal contact elements), a
+   uniform grid with more elements (:func:`next_uniform_elements`);
+4. **the start** of the new level: the last solution moved onto the new grid
+   (:func:`transferred_state`), or the closed-form (Hertz, Carter) start
+   when that has the smaller residual (the pipeline compares the two).
+
+No solves here: the decisions on plain arrays, and a small record of the run.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..grid import ContactGrid
+from ..solver.formulation import State
+from . import accuracy, kinks, remesh, transfer
+from .accuracy import LevelFields
+
+#: Fraction of the tolerance the next mesh aims at (remesh.SAFETY): the refined elements ask for
+#: h (SAFETY tolerance / eta)^2, so one refinement usually suffices near a kink. The STOPPING test
+#: uses the estimate itself against the tolerance: the estimate was 2.2 to 59 times the true error
+#: over the study, so a further factor would only buy more elements.
+SAFETY = remesh.SAFETY
+#: The estimate must fall below this fraction of the best earlier one within :data:`STALL_LEVELS`
+#: refinements, or the loop stops (the tolerance is below what the model resolves).
+STALL = 0.8
+STALL_LEVELS = 2
+#: Most contact elements of an adaptive level (a dense half-plane level of 4000 elements holds
+#: about 1 GB of influence and takes tens of seconds; the BEM far more).
+MAX_ELEMENTS = 4000
+#: Graded levels: elements away from the kinks, whose indicator is below the target, may grow by
+#: this factor per level, up to the zone over FEWEST_ELEMENTS (a fine uniform start, such as the
+#: default 200 elements, then does not stay fine where the traction is smooth).
+COARSEN = 2.0
+FEWEST_ELEMENTS = 20
+#: Uniform refinement (BEM): growth of the element count per level, at least and at most. The
+#: maximum error of a uniform mesh falls only like N^(-1/2) (square-root kinks), so the count the
+#: estimate asks for, N (eta / target)^2, is usually far beyond one doubling.
+UNIFORM_GROWTH = (1.25, 2.0)
+#: Most contact elements of a uniform (BEM) level: the BEM build of 1280 contact elements takes
+#: about a minute on 2 cores (640: 12 s, growing like N^2.5; benchmarks/results/accuracy_cost.md).
+MAX_UNIFORM_ELEMENTS = 1280
+
+GRADED = "graded towards the kinks (half-plane)"
+UNIFORM = "uniform refinement (BEM: graded contact grids are not available for the BEM yet)"
+
+
+def uniform_elements(elements: int, estimate: float, tolerance: float, safety: float = SAFETY) -> int:
+    """Element count of a uniform mesh whose estimate would meet ``safety`` times the tolerance,
+    N (estimate / (safety tolerance))^2: the maximum error of a uniform mesh falls like N^(-1/2)."""
+    return int(math.ceil(elements * (estimate / (safety * tolerance)) ** 2))
+
+
+def next_uniform_elements(elements: int, estimate: float, tolerance: float) -> int:
+    """Element count of the next uniform level: :func:`uniform_elements`, its growth over
+    ``elements`` bounded by :data:`UNIFORM_GROWTH`."""
+    low, high = UNIFORM_GROWTH
+    wanted = uniform_elements(elements, estimate, tolerance)
+    return max(elements + 1, min(wanted, int(math.ceil(high * elements)), max(wanted, int(math.ceil(low * elements)))))
+
+
+@dataclass
+class Adaptation:
+    """The progress of one adaptive solve: the request, every level's estimate, and why it stopped.
+
+    ``tolerance`` [-] (a fraction of mu p0, of p0 when frictionless),
+    ``max_refinements``, ``graded`` (half-plane: graded grids; else uniform
+    refinement), ``fits(elements) -> str`` says why a level of that many
+    elements cannot be solved ("" when it can: the memory check).
+    """
+
+    tolerance: float
+    max_refinements: int
+    graded: bool
+    fits: object = None
+    history: list[dict] = field(default_factory=list)
+    note: str = ""
+    met: bool = False
+    kinks: tuple | None = None
+
+    @property
+    def refinements(self) -> int:
+        """Levels solved after the first estimated one."""
+        return max(len(self.history) - 1, 0)
+
+    @property
+    def estimate(self) -> float:
+        """The estimate of the last solved level [-] (NaN before any)."""
+        return self.history[-1]["estimate"] if self.history else math.nan
+
+    def next_grid(self, level: LevelFields) -> ContactGrid | None:
+        """Record ``level``'s estimate; the grid of the next level, or None when the loop stops
+        (the tolerance is met, or a cap is reached: :attr:`note` says which)."""
+        found = accuracy.estimate(level, self.kinks)
+        self.kinks = (found.positions, found.kinds)
+        estimate = found.value
+        self.history.append(
+            {
+                "elements": level.grid.elements,
+                "estimate": estimate,
+                "jumps": found.jumps,
+                "kink_motion": found.motion,
+                "creep": level.creep,
+                "iterations": level.iterations,
+                "seconds": level.seconds,
+            }
+        )
+        if estimate <= self.tolerance:
+            self.met, self.note = True, ""
+            return None
+        reached = f"estimate {estimate:.3g} at {level.grid.elements} contact elements"
+        if self.refinements >= self.max_refinements:
+            self.note = (
+                f"tolerance {self.tolerance:g} not met: {reached} after {self.refinements} refinements "
+                f"(discretization.max_refinements = {self.max_refinements})"
+            )
+            return None
+        new = self._graded(level, found) if self.graded else self._uniform(level.grid, estimate)
+        if new is None:
+            self.note = f"tolerance {self.tolerance:g} not met: {reached}; {self.note}"
+            return None
+        refused = f"more than the {MAX_ELEMENTS} allowed" if new.elements > MAX_ELEMENTS else ""
+        if not refused and self.fits is not None:
+            refused = self.fits(new.elements)
+        if refused:
+            self.note = (
+                f"tolerance {self.tolerance:g} not met: {reached}; the next mesh would need {new.elements} "
+                f"contact elements, {refused}"
+            )
+            return None
+        return new
+
+    def _graded(self, level: LevelFields, found: accuracy.Estimate) -> ContactGrid | None:
+        """The next graded grid (:func:`.remesh.next_grid`), or None (and a reason) when the
+        estimate has stopped falling."""
+        if self.stalled():
+            earlier = min(row["estimate"] for row in self.history[:-STALL_LEVELS])
+            self.note = (
+                f"the estimate stopped falling (best {earlier:.3g} {STALL_LEVELS} refinements earlier): the "
+                "request is below what this model resolves (the smallest elements are at their round-off floor)"
+            )
+            return None
+        largest = 2.0 * level.grid.half_width / FEWEST_ELEMENTS
+        return remesh.next_grid(
+            level.grid,
+            found.eta,
+            found.positions,
+            found.kinds,
+            self.tolerance,
+            SAFETY,
+            coarsen=COARSEN,
+            largest=largest,
+        )
+
+    def _uniform(self, grid: ContactGrid, estimate: float) -> ContactGrid | None:
+        """The next uniform grid, or None (and a reason) when the uniform mesh the estimate asks for
+        exceeds :data:`MAX_UNIFORM_ELEMENTS` (its maximum error falls only like N^(-1/2))."""
+        needed = uniform_elements(grid.elements, estimate, self.tolerance, safety=1.0)
+        if needed > MAX_UNIFORM_ELEMENTS:
+            self.note = (
+                f"a uniform mesh would need about {needed} contact elements (its maximum error falls like "
+                f"N^(-1/2)), more than the {MAX_UNIFORM_ELEMENTS} allowed for uniform refinement; the BEM "
+                "takes no graded contact grid yet (the half-plane model's graded meshes reach such "
+                "tolerances where it applies)"
+            )
+            return None
+        elements = min(next_uniform_elements(grid.elements, estimate, self.tolerance), MAX_UNIFORM_ELEMENTS)
+        return ContactGrid(grid.half_width, elements, grid.order, grid.centre)
+
+    def stalled(self) -> bool:
+        """The estimate has not fallen below :data:`STALL` times the best earlier one for
+        :data:`STALL_LEVELS` refinements."""
+        if len(self.history) <= STALL_LEVELS:
+            return False
+        recent = min(row["estimate"] for row in self.history[-STALL_LEVELS:])
+        earlier = min(row["estimate"] for row in self.history[:-STALL_LEVELS])
+        return recent > STALL * earlier
+
+    def attributes(self, grid: ContactGrid) -> dict:
+        """Result attributes of the run, the final ``grid``'s element edges [length] among them."""
+        creep = [row["creep"] for row in self.history]
+        change = abs(creep[-1] - creep[-2]) / abs(creep[-1]) if len(creep) > 1 and creep[-1] else math.nan
+        return {
+            "adaptive_tolerance": self.tolerance,
+            "adaptive_estimate": self.estimate,
+            "adaptive_met": self.met,
+            "adaptive_refinements": self.refinements,
+            "adaptive_method": GRADED if self.graded else UNIFORM,
+            "adaptive_note": self.note,
+            "adaptive_creep_change": change,
+            "adaptive_history": json.dumps(self.history),
+            "element_edges": np.asarray(grid.edges, dtype=float),
+            "element_order": grid.order,
+        }
+
+
+def transferred_state(level: LevelFields, new: ContactGrid) -> State:
+    """The solution of ``level`` moved onto ``new`` (same zone): tractions by the old elements'
+    interpolants, the pressure ending like a square root at the located contact edges and the
+    traction within the friction bound (:func:`.transfer.transfer_tractions`); overlap and
+    creepage kept."""
+    edges = kinks.contact_edges(level.grid.x, level.p_n, level.gap)
+    p_n, p_t = transfer.transfer_tractions(level.grid, level.p_n, level.p_t, level.mu, new, edges)
+    return State(p_n, p_t, float(level.overlap), float(level.creep))
+
+
+def summary_line(attrs: dict) -> str | None:
+    """The summary's line for an adaptive result (None for a fixed mesh)."""
+    if "adaptive_tolerance" not in attrs:
+        return None
+    status = "met" if attrs.get("adaptive_met") else "NOT met"
+    method = "graded" if str(attrs.get("adaptive_method", "")).startswith("graded") else "uniform refinement"
+    return (
+        f"  accuracy       tolerance {attrs['adaptive_tolerance']:g} {status}: estimate "
+        f"{attrs['adaptive_estimate']:.3g} (of mu p0; p0 when frictionless), {attrs.get('contact_elements')} "
+        f"elements after {attrs.get('adaptive_refinements')} refinements ({method})"
+    )
