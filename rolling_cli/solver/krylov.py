@@ -23,6 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+#: Iterations per GMRES cycle (the Arnoldi basis holds RESTART + 1 vectors).
+RESTART = 100
+
 
 @dataclass(frozen=True)
 class KrylovResult:
@@ -41,7 +44,7 @@ def gmres(
     precondition: Callable[[np.ndarray], np.ndarray],
     target: float,
     start: np.ndarray | None = None,
-    restart: int = 100,
+    restart: int = RESTART,
     max_iterations: int = 600,
 ) -> KrylovResult:
     """x with max|rhs - apply(x)| <= ``target`` (see the module docstring); ``start`` is the first
