@@ -170,6 +170,10 @@ def test_gmres_reaches_its_target():
     assert np.allclose(found.x, np.linalg.solve(A, b), rtol=0, atol=1e-11)
     again = krylov.gmres(lambda x: A @ x, b, lambda v: v / diagonal, 1e-10, start=found.x)
     assert again.iterations == 0 and again.converged
+    # a preconditioner in single precision (not exactly linear): flexible GMRES still reaches 1e-12
+    single = diagonal.astype(np.float32)
+    rough = krylov.gmres(lambda x: A @ x, b, lambda v: (v.astype(np.float32) / single).astype(float), 1e-12)
+    assert rough.converged and np.max(np.abs(b - A @ rough.x)) <= 1e-12
     # a target below round-off: GMRES stops when a cycle no longer halves the residual
     stuck = krylov.gmres(lambda x: A @ x, b, lambda v: v / diagonal, 0.0)
     assert not stuck.converged and stuck.residual < 1e-13 and stuck.iterations < 600
@@ -206,6 +210,13 @@ def test_bordered_band_lu_and_its_fallback():
     exact = np.linalg.solve(M, rhs)
     scale = np.linalg.cond(M) * EPS * np.abs(exact).max()
     assert np.allclose(np.concatenate([core, edge]), exact, rtol=0, atol=100 * scale)
+    # single precision (the preconditioner's): the same solution to float32 round-off times cond(M)
+    _, band, *_ = _bordered(40, singular=False)
+    single = BorderedBandLU(band, lower, upper, U, V, D, single=True)
+    core, edge = single.solve(rhs[:40], rhs[40:])
+    tiny = np.linalg.cond(M) * np.finfo(np.float32).eps * np.abs(exact).max()
+    assert np.allclose(np.concatenate([core, edge]), exact, rtol=0, atol=100 * tiny)
+    assert not np.allclose(np.concatenate([core, edge]), exact, rtol=0, atol=100 * scale)  # really float32
     M, band, lower, upper, U, V, D = _bordered(40, singular=True)
     with pytest.raises(np.linalg.LinAlgError):
         BorderedBandLU(band, lower, upper, U, V, D)

@@ -59,6 +59,7 @@ class BlockToeplitz:
         if self.rows.size and (self.rows.min() < 0 or self.rows.max() >= n or not distinct):
             raise ValueError("explicit rows must be distinct row indices")
         self._spectrum: np.ndarray | None = None
+        self._slot_cache: np.ndarray | None = None
         self._row_cache: dict[bytes, np.ndarray] = {}
 
     # --- arithmetic --------------------------------------------------------------------------------
@@ -97,24 +98,16 @@ class BlockToeplitz:
     # --- exact entries -----------------------------------------------------------------------------
 
     def _slots(self) -> np.ndarray:
-        """Index into ``rows`` of every row, -1 for Toeplitz rows."""
-        slots = np.full(self.shape[0], -1, dtype=np.intp)
-        slots[self.rows] = np.arange(self.rows.size)
-        return slots
+        """Index into ``rows`` of every row, -1 for Toeplitz rows (computed once)."""
+        if self._slot_cache is None:
+            slots = np.full(self.shape[0], -1, dtype=np.intp)
+            slots[self.rows] = np.arange(self.rows.size)
+            self._slot_cache = slots
+        return self._slot_cache
 
     def entries(self, i, j) -> np.ndarray:
         """M[i, j] for broadcastable integer index arrays ``i``, ``j`` (exact: gathered values)."""
-        i, j = np.broadcast_arrays(np.asarray(i, dtype=np.intp), np.asarray(j, dtype=np.intp))
-        m, ne = self.block_size, self.elements
-        e_i, a = np.divmod(i, m)
-        e_j, k = np.divmod(j, m)
-        out = np.array(self.values[e_i - e_j + ne - 1, a, k], dtype=float)
-        if self.rows.size:
-            slot = self._slots()[i]
-            explicit = slot >= 0
-            if explicit.any():
-                out[explicit] = self.row_values[slot[explicit], j[explicit]]
-        return out
+        return gather([self], i, j)[0]
 
     def block(self, rows, cols=None) -> np.ndarray:
         """The dense block M[rows][:, cols] for index arrays (``cols=None``: all columns)."""
@@ -202,6 +195,32 @@ class BlockToeplitz:
         end_rows = slip.apply_t(self.block(ends), spacing, direction, scheme)
         keep = slice(1, 3) if direction < 0 else slice(0, 2)
         return BlockToeplitz(derived, ends[keep], end_rows[keep])
+
+
+def gather(operators: list[BlockToeplitz], i, j) -> list[np.ndarray]:
+    """M[i, j] of each block-Toeplitz M of one grid, for broadcastable integer index arrays
+    ``i``, ``j``: the offset values gathered (exact), the flat index computed once for all."""
+    i, j = np.broadcast_arrays(np.asarray(i, dtype=np.intp), np.asarray(j, dtype=np.intp))
+    first = operators[0]
+    m, ne = first.block_size, first.elements
+    # values[e_i - e_j + N_e - 1, a, k] for i = m e_i + a, j = m e_j + k, as one flat index:
+    # m (i - j) + (m + 1) k + (N_e - 1) m^2
+    flat = m * (i - j) + (ne - 1) * m * m
+    if m > 1:
+        flat += (m + 1) * (j % m)
+    flat = flat.reshape(-1)
+    found = []
+    for op in operators:
+        if op.shape != first.shape or op.block_size != m:
+            raise ValueError("block-Toeplitz entries of different grids")
+        out = op.values.reshape(-1)[flat].reshape(i.shape)
+        if op.rows.size:
+            slot = op._slots()[i]
+            explicit = slot >= 0
+            if explicit.any():
+                out[explicit] = op.row_values[slot[explicit], j[explicit]]
+        found.append(out)
+    return found
 
 
 def apply_sum(terms: list[tuple[BlockToeplitz, np.ndarray]]) -> np.ndarray:

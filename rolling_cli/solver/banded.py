@@ -4,7 +4,8 @@
         [V D]    D their crossing; the Schur complement S = D - V K^-1 U is dense but tiny.
 
 A solve is one banded triangular solve (gbtrs, O(N b)) and the small border
-system. When K (or S) is singular, :class:`BorderedBandLU` raises
+system. ``single=True`` factorises and solves K in single precision (s-gbtrf/
+s-gbtrs: 3-5x faster, half the memory), for a preconditioner. When K (or S) is singular, :class:`BorderedBandLU` raises
 ``numpy.linalg.LinAlgError``; :func:`sparse_lu` factorises the whole matrix
 (SuperLU, minimum degree ordering) instead.
 """
@@ -22,11 +23,14 @@ class BorderedBandLU:
     (overwritten); ``columns`` U (N, b), ``rows`` V (b, N), ``corner`` D (b, b).
     """
 
-    def __init__(self, band: np.ndarray, lower: int, upper: int, columns, rows, corner) -> None:
-        from scipy.linalg.lapack import dgbtrf
+    def __init__(self, band: np.ndarray, lower: int, upper: int, columns, rows, corner, single: bool = False) -> None:
+        from scipy.linalg.lapack import dgbtrf, sgbtrf
 
         self.lower, self.upper = lower, upper
-        self.factor, self.pivots, info = dgbtrf(band, lower, upper, overwrite_ab=1)
+        self.single = single
+        if single:
+            band = np.asfortranarray(band, dtype=np.float32)
+        self.factor, self.pivots, info = (sgbtrf if single else dgbtrf)(band, lower, upper, overwrite_ab=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"singular banded part (LAPACK gbtrf info {info})")
         self.rows = np.asarray(rows, dtype=float)
@@ -38,9 +42,13 @@ class BorderedBandLU:
             raise np.linalg.LinAlgError("singular border block")
 
     def _band_solve(self, rhs: np.ndarray) -> np.ndarray:
-        from scipy.linalg.lapack import dgbtrs
+        from scipy.linalg.lapack import dgbtrs, sgbtrs
 
-        x, info = dgbtrs(self.factor, self.lower, self.upper, rhs, self.pivots)
+        if self.single:
+            x, info = sgbtrs(self.factor, self.lower, self.upper, np.asarray(rhs, dtype=np.float32), self.pivots)
+            x = x.astype(float)
+        else:
+            x, info = dgbtrs(self.factor, self.lower, self.upper, rhs, self.pivots)
         if info != 0:  # an argument error: a programming error, not a property of the matrix
             raise ValueError(f"LAPACK gbtrs info {info}")
         return x

@@ -1,16 +1,19 @@
-"""Restarted GMRES with right preconditioning (the matrix-free Newton steps).
+"""Restarted flexible GMRES with right preconditioning (the matrix-free Newton steps).
 
 :func:`gmres` solves A x = b for an operator given as a function, with a
 preconditioner M^-1 ~ A^-1 applied on the right: it iterates on A M^-1 y = b
-and returns x = M^-1 y, so the residual it minimises is the true residual
-b - A x, not a preconditioned one, and the stop test is on what the caller
-needs. The Arnoldi basis is orthogonalised by classical Gram-Schmidt applied
-twice (matrix-vector products, orthogonal to working precision), the residual
-norm follows from Givens rotations. After each cycle (at most ``restart``
-iterations) the true residual is recomputed, since the recurrence drifts from
-it in floating point; the solve stops when the true residual's largest
-component is at most ``target``, and gives up when a cycle no longer halves it
-(round-off) or the iterations run out.
+and returns x, so the residual it minimises is the true residual b - A x, not
+a preconditioned one, and the stop test is on what the caller needs. The
+preconditioned directions z_k = M^-1 v_k are kept and x is built from them
+(flexible GMRES, Saad 1993): the Arnoldi relation A Z = V H holds whatever M^-1
+does, so a preconditioner applied in single precision (not exactly linear)
+costs no accuracy. The Arnoldi basis is orthogonalised by classical
+Gram-Schmidt applied twice (matrix-vector products, orthogonal to working
+precision), the residual norm follows from Givens rotations. After each cycle
+(at most ``restart`` iterations) the true residual is recomputed, since the
+recurrence drifts from it in floating point; the solve stops when the true
+residual's largest component is at most ``target``, and gives up when a cycle
+no longer halves it (round-off) or the iterations run out.
 
 Pure numpy; units are the caller's (the Newton system's, scaled to be
 dimensionless).
@@ -73,6 +76,7 @@ def _cycle(apply, residual: np.ndarray, precondition, target: float, steps: int)
     """
     beta = float(np.linalg.norm(residual))
     basis = np.empty((steps + 1, residual.size))
+    directions = np.empty((steps, residual.size))  # M^-1 of each basis vector (flexible GMRES)
     basis[0] = residual / beta
     hessenberg = np.zeros((steps + 1, steps))
     cosines = np.zeros(steps)
@@ -81,7 +85,8 @@ def _cycle(apply, residual: np.ndarray, precondition, target: float, steps: int)
     g[0] = beta
     used = 0
     for k in range(steps):
-        w = apply(precondition(basis[k]))
+        directions[k] = precondition(basis[k])
+        w = apply(directions[k])
         h = basis[: k + 1] @ w
         w -= h @ basis[: k + 1]
         again = basis[: k + 1] @ w  # the second pass of Gram-Schmidt
@@ -101,7 +106,7 @@ def _cycle(apply, residual: np.ndarray, precondition, target: float, steps: int)
             break
         basis[k + 1] = w / norm
     y = _back_substitute(hessenberg[:used, :used], g[:used])
-    return precondition(y @ basis[:used]), used
+    return y @ directions[:used], used
 
 
 def _back_substitute(upper: np.ndarray, values: np.ndarray) -> np.ndarray:

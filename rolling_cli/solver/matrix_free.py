@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..influence.toeplitz import apply_sum, products
+from ..influence.toeplitz import apply_sum, gather, products
 from . import krylov, near_field
 from .formulation import Evaluation, NodeSets, Problem, ReducedSystem, State, roundoff_floor
 
@@ -159,41 +159,46 @@ class ReducedOperator:
         nc = self.contact.size
         c, st, coef = self.contact, self.stick, self.coef
         row_n, col_n = i < nc, j < nc
-        node_j = np.empty(np.shape(j), dtype=np.intp)
-        node_j[col_n] = c[j[col_n]]
-        node_j[~col_n] = st[j[~col_n] - nc]
+        node_j = np.where(col_n, c[np.minimum(j, max(nc - 1, 0))] if nc else 0, 0)
+        if st.size:
+            node_j = np.where(col_n, node_j, st[np.clip(j - nc, 0, st.size - 1)])
         out = np.zeros(np.shape(i))
         if self.problem.normal:
             diff = self._differenced()
+            with_t = coef is not None and system.coupled
+            normal_ops = [system.S_nn, system.S_nt] if system.coupled else [system.S_nn]
+            col_coef = np.where(col_n, coef[np.minimum(j, nc - 1)], 0.0) if with_t else None
 
-            def normal(rows_at, k, cols_n, nodes):
-                """Contact rows at nodes ``rows_at`` (before r_n), columns ``k`` at ``nodes``."""
-                value = np.zeros(rows_at.shape)
-                if cols_n.any():
-                    value[cols_n] = system.S_nn.entries(rows_at[cols_n], nodes[cols_n])
-                    if coef is not None and system.coupled:
-                        value[cols_n] += system.S_nt.entries(rows_at[cols_n], nodes[cols_n]) * coef[k[cols_n]]
-                other = ~cols_n
-                if other.any():  # p_t columns exist only in the coupled mode
-                    value[other] = system.S_nt.entries(rows_at[other], nodes[other])
+            def normal(rows_at, pick):
+                """Contact rows at nodes ``rows_at`` (before r_n), for the entries ``pick``."""
+                found = gather(normal_ops, rows_at, node_j[pick])
+                cols_n = col_n[pick]
+                value = np.where(cols_n, found[0], found[1] if system.coupled else 0.0)  # p_t columns: S_nt
+                if with_t:
+                    value += np.where(cols_n, found[1] * col_coef[pick], 0.0)
                 return value
 
             rows = np.flatnonzero(row_n)
-            value = normal(c[i[rows]], j[rows], col_n[rows], node_j[rows])
+            value = normal(c[i[rows]], rows)
             shifted = diff[i[rows]]
             if shifted.any():
                 pick = rows[shifted]
-                value[shifted] -= normal(c[i[pick] + 1], j[pick], col_n[pick], node_j[pick])
+                value[shifted] -= normal(c[i[pick] + 1], pick)
             out[rows] = system.penalty_n * value
         if self.problem.tangential:
             rows = np.flatnonzero(~row_n)
             at = st[i[rows] - nc]
             cols_n, nodes = col_n[rows], node_j[rows]
-            value = system.B_tt.entries(at, nodes)
             if cols_n.any():
-                value[cols_n] *= coef[j[rows][cols_n]]
+                ops = [system.B_tt, system.B_tn] if system.coupled else [system.B_tt]
+                found = gather(ops, at, nodes)
+                value = found[0]
+                factor = np.where(cols_n, coef[np.minimum(j[rows], nc - 1)], 1.0)
+                value *= factor
                 if system.coupled:
-                    value[cols_n] += system.B_tn.entries(at[cols_n], nodes[cols_n])
+                    value += np.where(cols_n, found[1], 0.0)
+            else:
+                value = system.B_tt.entries(at, nodes)
             out[rows] = system.penalty_t * value
         return out * self.row_scale[i]
 
