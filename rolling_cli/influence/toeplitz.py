@@ -275,11 +275,10 @@ def products(sums: list[list[tuple[BlockToeplitz, np.ndarray]]]) -> list[np.ndar
 
 def _accumulate(total: np.ndarray | None, spectrum: np.ndarray, transformed: np.ndarray) -> np.ndarray:
     """total[a] += sum_k spectrum[a, k] P[k] for P = ``transformed`` (m, ..., frequencies)."""
-    m = spectrum.shape[0]
-    extra = (1,) * (transformed.ndim - 2)
+    m, frequencies = spectrum.shape[0], spectrum.shape[-1]
+    flat = transformed.reshape(m, -1, frequencies)
+    term = (spectrum[:, :, None, :] * flat[None]).sum(axis=1).reshape((m,) + transformed.shape[1:])
     if total is None:
-        total = np.zeros((m,) + transformed.shape[1:], dtype=complex)
-    for a in range(m):
-        for k in range(m):
-            total[a] += spectrum[a, k].reshape(extra + (-1,)) * transformed[k]
+        return term
+    total += term
     return total

@@ -13,7 +13,8 @@ precision), the residual norm follows from Givens rotations. After each cycle
 (at most ``restart`` iterations) the true residual is recomputed, since the
 recurrence drifts from it in floating point; the solve stops when the true
 residual's largest component is at most ``target``, and gives up when a cycle
-no longer halves it (round-off) or the iterations run out.
+no longer halves it near the target (round-off), barely reduces it, or the
+iterations run out.
 
 Pure numpy; units are the caller's (the Newton system's, scaled to be
 dimensionless).
@@ -25,6 +26,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+
+#: A cycle that does not halve the largest residual ends the solve when that residual is within
+#: ROUNDOFF_ZONE x ``target`` (the round-off level: more cycles would not help) or above SLOW x
+#: the residual before it (no progress); far from the target a slower cycle is followed by another.
+ROUNDOFF_ZONE = 10.0
+SLOW = 0.9
 
 #: Iterations per GMRES cycle (the Arnoldi basis holds RESTART + 1 vectors).
 RESTART = 100
@@ -60,11 +67,14 @@ def gmres(
         steps = min(restart, max_iterations - taken)
         correction, used = _cycle(apply, residual, precondition, target, steps)
         taken += used
-        x += correction
-        residual = rhs - apply(x)
-        previous, size = size, float(np.max(np.abs(residual)))
-        if size > 0.5 * previous:  # no progress in a whole cycle: the round-off level
+        trial = x + correction
+        found = rhs - apply(trial)
+        previous, now = size, float(np.max(np.abs(found)))
+        if now >= previous:  # a cycle that made things worse (round-off): keep what was there
             break
+        x, residual, size = trial, found, now
+        if size > 0.5 * previous and (size <= ROUNDOFF_ZONE * target or size > SLOW * previous):
+            break  # no longer halving near the target (the round-off level), or barely moving
     return KrylovResult(x, taken, size, size <= target)
 
 
