@@ -44,6 +44,7 @@ import tomli_w  # noqa: E402
 
 import rolling_cli  # noqa: E402
 from rolling_cli.case import load_case  # noqa: E402
+from rolling_cli.errors import ConvergenceError  # noqa: E402
 from rolling_cli.influence import halfplane  # noqa: E402
 from rolling_cli.influence.build import clear_memo  # noqa: E402
 
@@ -138,7 +139,11 @@ def main() -> None:
                 elements = max(2, round(n / per))
                 data = case_data(FILES[name], element, elements)
                 case = load_case(data)
-                wall, r = run(case, args.repeat)
+                try:
+                    wall, r = run(case, args.repeat)
+                except ConvergenceError as err:
+                    print(f"| {name} | {element} | {elements * per} | {elements} | failed: {str(err)[:120]} |")
+                    continue
                 process, peak = whole_process(data, args.process_repeat, Path(tmp)) if args.process_repeat else (0, 0)
                 path = r.attributes["linear_solver"]
                 dense = diff = "-"

@@ -9,8 +9,8 @@ tractions, the influence operators are applied by FFT
 (:func:`rolling_cli.influence.toeplitz.apply_sum`, O(n log n)) and the rows
 gathered.
 
-It is solved by GMRES (:mod:`rolling_cli.solver.krylov`) with a sparse LU of
-the near field as preconditioner:
+It is solved by flexible GMRES (:mod:`rolling_cli.solver.krylov`) with the LU
+of the near field as preconditioner (:mod:`rolling_cli.solver.near_field`):
 
 * rows are scaled by their traction scale (s_n normal and load rows, s_t
   tangential and force rows), so the residual is the Newton's own measure;
@@ -19,10 +19,18 @@ the near field as preconditioner:
   rows (E, a bidiagonal matrix; the last row of each run of contact nodes kept
   whole: it carries the overlap) turns them into the Cauchy kernel of the
   slip rows (the slip operator T does the same to the tangential block, paper
-  eq. 19-25), whose far field is small and smooth;
-* the preconditioner is the sparse LU (SuperLU, minimum degree ordering) of
-  E A restricted to node pairs at most :data:`NEAR_FIELD` nodes apart, plus the
-  dense load and force rows and creep column; it is applied as M^-1 E.
+  eq. 19-25), whose far field is smaller and smooth;
+* the preconditioner is the LU of E A restricted to node pairs at most
+  :data:`NEAR_FIELD` nodes apart (a band in node order, LAPACK's band LU in
+  single precision), bordered by the dense load and force rows and creep
+  column (SuperLU of the whole if the band is singular); it is applied as
+  M^-1 E.
+
+The far field the band leaves out grows (slowly) with the grid, and so do the
+Krylov iterations per Newton step: ~60 at 10,000 nodes, a few hundred at
+30,000 (benchmarks/RESULTS.md); at 100,000 nodes a coupled system no longer
+converges in GMRES(100) with this preconditioner (a coarse-grid correction
+would be the next step).
 
 GMRES stops when the largest scaled residual component is at most the
 round-off floor of the system (:func:`~rolling_cli.solver.formulation.roundoff_floor`,
