@@ -9,7 +9,7 @@ ones. Two columns of time:
   influence memo cleared);
 * whole process: ``rollc -q solve case.toml -o result.h5`` as a subprocess
   (imports, solve and the result file), the median of ``--process-repeat`` runs,
-  with the largest peak resident set of those runs (``os.wait4``).
+  and the peak resident set of one more run (``os.wait4`` in a small launcher).
 
 ``path`` is the linear solver the Newton steps used (the ``linear_solver``
 result attribute): "dense LU", or "Krylov" on the matrix-free path that uniform
@@ -26,7 +26,6 @@ difference of p_n and p_t; the threshold's crossover).
 from __future__ import annotations
 
 import argparse
-import os
 import platform
 import shutil
 import statistics
@@ -83,24 +82,34 @@ def rollc() -> list[str]:
     return [found]
 
 
+#: Runs a command and prints its peak resident set [kB]. The command is forked from this small
+#: process, not from the benchmark (a child's high-water mark includes its parent's resident set
+#: at the fork, and Linux keeps it across exec).
+_PEAK = (
+    "import os, subprocess, sys; p = subprocess.Popen(sys.argv[1:]); _, status, usage = os.wait4(p.pid, 0); "
+    "print(usage.ru_maxrss if os.waitstatus_to_exitcode(status) == 0 else -1)"
+)
+
+
 def whole_process(data: dict, repeat: int, folder: Path) -> tuple[float, float]:
-    """Median wall time [s] of ``rollc -q solve`` on ``data`` and the largest peak RSS [MB]."""
+    """Median wall time [s] of ``rollc -q solve`` on ``data`` (``repeat`` runs) and the peak
+    resident set of one more run [MB]."""
     case_file = folder / "case.toml"
     case_file.write_text(tomli_w.dumps(data))
     out = folder / "result.h5"
-    env = dict(os.environ)
-    times, peak = [], 0.0
+    command = rollc() + ["-q", "solve", str(case_file), "-o", str(out)]
+    times = []
     for _ in range(repeat):
         out.unlink(missing_ok=True)
         t = time.perf_counter()
-        proc = subprocess.Popen(rollc() + ["-q", "solve", str(case_file), "-o", str(out)], env=env)
-        _, status, usage = os.wait4(proc.pid, 0)
+        subprocess.run(command, check=True)
         times.append(time.perf_counter() - t)
-        proc.returncode = os.waitstatus_to_exitcode(status)
-        if proc.returncode != 0:
-            raise SystemExit(f"rollc failed ({proc.returncode}) on {case_file}")
-        peak = max(peak, usage.ru_maxrss / 1024.0)  # kB on Linux
-    return statistics.median(times), peak
+    out.unlink(missing_ok=True)
+    found = subprocess.run([sys.executable, "-c", _PEAK, *command], capture_output=True, text=True, check=True)
+    peak = int(found.stdout.strip())
+    if peak < 0:
+        raise SystemExit(f"rollc failed on {case_file}")
+    return statistics.median(times), peak / 1024.0  # kB on Linux
 
 
 def case_data(file: str, element: str, elements: int) -> dict:

@@ -88,8 +88,11 @@ BEM_BLOCK_TEMPORARIES = 2.6
 BEM_GROWTH = 1.4
 
 #: Doubles per gathered entry while the Krylov preconditioner's band is assembled (index and
-#: value temporaries of ``solver.near_field._band``): measured.
-KRYLOV_CHUNK_TEMPORARIES = 12.0
+#: value temporaries of ``solver.near_field._band``). With KRYLOV_VECTORS and KRYLOV_IMPORTS
+#: fitted to the traced peaks of 3,000-10,000 nodes (model / traced 0.9-1.2, Carter and the
+#: dissimilar case); at 1,200 nodes the fixed import term makes the model up to 1.7x the traced
+#: peak (it bounds the resident set, which the imports do grow).
+KRYLOV_CHUNK_TEMPORARIES = 4.0
 
 #: Doubles per contact node of the matrix-free Newton's vectors (transforms of the tractions,
 #: node states, evaluations, history): measured.
@@ -293,20 +296,25 @@ def _newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
 
 def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     """Peak doubles and work of the matrix-free Newton iterations on n nodes
-    (:mod:`rolling_cli.solver.matrix_free`): the preconditioner's band in LAPACK storage,
-    (3 h + 1) per unknown with h = (W + 1) per node - 1 (W = NEAR_FIELD, per node 2 coupled),
-    the GMRES basis, (restart + 1) per unknown, the band assembly's gathered chunk with its
-    temporaries, :data:`KRYLOV_VECTORS` per node of vectors (transforms, node states,
-    evaluations) and the modules the path imports on first use (:data:`KRYLOV_IMPORTS`)."""
+    (:mod:`rolling_cli.solver.matrix_free`): :data:`KRYLOV_VECTORS` per node of vectors
+    (transforms, node states, evaluations), the modules the path imports on first use
+    (:data:`KRYLOV_IMPORTS`) and the largest of three phases of each step, with
+    B = (3 h + 1) per unknown the preconditioner's band in LAPACK storage (h = (W + 1) per
+    node - 1, W = NEAR_FIELD, per node 2 coupled): its assembly (B and the gathered chunk's
+    temporaries), its single-precision factorisation (1.5 B: the double band and its float32
+    copy) and GMRES (B / 2, the Arnoldi basis and the preconditioned directions, 2 restart + 1
+    per unknown)."""
     from .solver import krylov, matrix_free, near_field
 
     contact = n / zone
     per_node = 2 if coupled else 1
     size = per_node * contact
     half = per_node * (matrix_free.NEAR_FIELD + 1) - 1
+    band = (3 * half + 1) * size
     restart = krylov.RESTART
     chunk = KRYLOV_CHUNK_TEMPORARIES * min(near_field.CHUNK, (2 * half + 1) * size)
-    doubles = (3 * half + 1 + restart + 1) * size + chunk + KRYLOV_VECTORS * n + KRYLOV_IMPORTS
+    phases = (band + chunk, 1.5 * band, 0.5 * band + (2 * restart + 1) * size)
+    doubles = max(phases) + KRYLOV_VECTORS * n + KRYLOV_IMPORTS
     iterations = 50  # Krylov iterations per Newton step, a rough mean (benchmarks/bench_solve.py)
     per_iteration = 40.0 * n * math.log2(max(n, 2)) + 4.0 * size * (3 * half + 1) + 4.0 * restart * size
     flops = NEWTON_ITERATIONS * (2.0 * size * half**2 + iterations * per_iteration)
