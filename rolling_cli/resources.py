@@ -44,8 +44,9 @@ Measured peak RSS stays within :data:`ALLOCATOR_MARGIN` of the traced arrays
 (allocator and LAPACK workspace; ``tests/test_resources.py``,
 ``benchmarks/bench_resources.py``). Not counted: a second attempt after the
 potential zone is enlarged (the first one's influence stays memoised), the
-``--error-estimate`` re-solve (a quarter of the size), and sweeps' several
-workers (pass ``copies``).
+``--error-estimate`` re-solve (a quarter of the size), sweeps' several
+workers (pass ``copies``), and the dense LU a stalled Krylov step falls back to
+(at most ``matrix_free.DENSE_FALLBACK`` unknowns: 128 MB and its LU copy).
 
 The work is a rough count of floating-point operations: BEM assembly
 (:data:`BEM_PAIR_FLOPS` per collocation node and element), LU

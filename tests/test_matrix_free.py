@@ -66,6 +66,7 @@ def test_fast_path_gives_the_dense_result(name, operators_from):
     assert fast.attributes["residual"] <= fast.attributes["tolerance_applied"]
     assert dense.attributes["linear_solver"] == "dense LU" and "krylov_iterations" not in dense.attributes
     assert fast.attributes["linear_solver"] == "Krylov" and fast.attributes["krylov_iterations"] > 0
+    assert fast.attributes["krylov_dense_fallbacks"] == 0  # every step by GMRES itself
     assert {row["linear_solver"] for row in fast.history} == {"Krylov"}
     assert {row["linear_solver"] for row in dense.history} == {"dense LU"}
 
@@ -148,6 +149,28 @@ def test_reduced_operator_is_the_dense_reduced_system(data, mode):
     assert np.max(np.abs(residual)) <= matrix_free.STAGNATION_ALLOWANCE * op.target
     if dense.creep_column is not None:
         assert np.array_equal(fast.creep_column, dense.creep_column)
+    # the dense fallback (E D A assembled from the exact entries): the LU's solution, to 1e-9 as above
+    assert np.max(np.abs(op.solve_dense(fast.rhs) - exact)) <= 1e-9 * np.max(np.abs(exact))
+
+
+def test_a_stalled_krylov_solve_falls_back_to_dense_lu(monkeypatch):
+    """A GMRES that stalls: up to DENSE_FALLBACK unknowns the step is solved by dense LU (and
+    counted), above it the solve fails (LinAlgError: the Newton strategies handle it)."""
+    dense, fast = _reduced_pair(*MODES[0])
+    exact = np.linalg.solve(dense.matrix, dense.rhs)
+
+    def stalled(apply, rhs, precondition, target, start=None):
+        return krylov.KrylovResult(np.zeros_like(rhs), 1, 1.0, False)
+
+    monkeypatch.setattr(matrix_free.krylov, "gmres", stalled)
+    system = fast.matrix.problem.system
+    before = matrix_free.statistics(system)["dense"]
+    found = formulation.solve_reduced(fast, fast.rhs)
+    assert np.max(np.abs(found - exact)) <= 1e-9 * np.max(np.abs(exact))
+    assert matrix_free.statistics(system)["dense"] == before + 1
+    monkeypatch.setattr(matrix_free, "DENSE_FALLBACK", fast.matrix.shape[0] - 1)
+    with pytest.raises(np.linalg.LinAlgError):
+        formulation.solve_reduced(fast, fast.rhs)
 
 
 def test_inexact_newton_forcing():

@@ -65,8 +65,11 @@ KRYLOV_TOLERANCE = 1e-13
 #: round-off, and a case whose first node states are right still converges in one step.
 FORCING = 1e-2
 FORCING_FROM = 1e-2
-#: A solve that stagnates is accepted up to this multiple of its target (round-off), else it fails.
+#: A solve that stagnates is accepted up to this multiple of its target (round-off); else, up to
+#: DENSE_FALLBACK unknowns (a dense matrix of 128 MB), it is solved by a dense LU instead
+#: (:meth:`ReducedOperator.solve_dense`), and above it fails (numpy.linalg.LinAlgError).
 STAGNATION_ALLOWANCE = 10.0
+DENSE_FALLBACK = 4000
 
 
 @dataclass
@@ -248,12 +251,36 @@ class ReducedOperator:
         result = krylov.gmres(apply, scale * rhs, near_field.preconditioner(self, NEAR_FIELD), target, start=start)
         _record(self.problem.system, result.iterations)
         if not result.residual <= STAGNATION_ALLOWANCE * target:
+            if self.shape[0] <= DENSE_FALLBACK:
+                log.debug("Krylov stalled at %.2e: dense LU of the %d unknowns", result.residual, self.shape[0])
+                _record(self.problem.system, 0, fallback=True)
+                return self.solve_dense(rhs)
             raise np.linalg.LinAlgError(
                 f"the Krylov solve of the Newton system stalled at a relative residual {result.residual:.2e} "
                 f"(target {target:.1e}) after {result.iterations} iterations"
             )
         log.debug("Krylov: %d iterations, residual %.2e", result.iterations, result.residual)
         return result.x
+
+    def solve_dense(self, rhs: np.ndarray) -> np.ndarray:
+        """z with A z = rhs by a dense LU of E D A z = E D rhs (D the row scales, E the row
+        differences: both regular), assembled from exact entries row block by row block
+        (O(size^2) memory: the fallback of :meth:`solve` up to :data:`DENSE_FALLBACK` unknowns)."""
+        from .linalg import solve_dense
+
+        border, columns, rows, corner = self.borders()
+        core = self.shape[0] - border.size
+        matrix = np.empty(self.shape, order="F")
+        step = max(1, near_field.CHUNK // max(core, 1))
+        cols = np.arange(core)
+        for lo in range(0, core, step):
+            block = np.arange(lo, min(lo + step, core))
+            i, j = np.broadcast_arrays(block[:, None], cols[None, :])
+            matrix[lo : lo + block.size, :core] = self.entries(i.ravel(), j.ravel()).reshape(block.size, core)
+        matrix[:core, core:] = columns
+        matrix[core:, :core] = rows
+        matrix[core:, core:] = corner
+        return solve_dense(matrix, self.difference(self.row_scale * rhs))
 
 
 def forcing_target(residual: float) -> float:
@@ -345,15 +372,18 @@ def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluatio
 _STATISTICS: dict[int, tuple] = {}
 
 
-def _record(system, iterations: int) -> None:
+def _record(system, iterations: int, fallback: bool = False) -> None:
     key = id(system)
     found = _STATISTICS.get(key)
     if found is None or found[0]() is not system:
         if len(_STATISTICS) > 32:
             _STATISTICS.clear()
-        found = (weakref.ref(system), {"solves": 0, "iterations": 0, "largest": 0})
+        found = (weakref.ref(system), {"solves": 0, "iterations": 0, "largest": 0, "dense": 0})
         _STATISTICS[key] = found
     stats = found[1]
+    if fallback:
+        stats["dense"] += 1
+        return
     stats["solves"] += 1
     stats["iterations"] += iterations
     stats["largest"] = max(stats["largest"], iterations)
@@ -361,17 +391,23 @@ def _record(system, iterations: int) -> None:
 
 def result_attributes(system) -> dict:
     """Result attributes of the linear solver: ``linear_solver`` ("dense LU" or "Krylov") and, for
-    Krylov, ``krylov_solves`` and ``krylov_iterations`` on this system so far."""
+    Krylov, ``krylov_solves``, ``krylov_iterations`` and ``krylov_dense_fallbacks`` (stalled
+    solves redone by dense LU) on this system so far."""
     attrs = {"linear_solver": system.linear_solver}
     if system.matrix_free:
         found = statistics(system)
-        attrs.update(krylov_solves=found["solves"], krylov_iterations=found["iterations"])
+        attrs.update(
+            krylov_solves=found["solves"],
+            krylov_iterations=found["iterations"],
+            krylov_dense_fallbacks=found["dense"],
+        )
     return attrs
 
 
 def statistics(system) -> dict[str, int]:
-    """Krylov solves on ``system`` so far: {"solves", "iterations" (total), "largest"} (zeros if none)."""
+    """Krylov solves on ``system`` so far: {"solves", "iterations" (total), "largest", "dense" (fallbacks)}
+    (zeros if none)."""
     found = _STATISTICS.get(id(system))
     if found is None or found[0]() is not system:
-        return {"solves": 0, "iterations": 0, "largest": 0}
+        return {"solves": 0, "iterations": 0, "largest": 0, "dense": 0}
     return dict(found[1])
