@@ -33,6 +33,10 @@ import numpy as np
 ROUNDOFF_ZONE = 10.0
 SLOW = 0.9
 
+#: Iterations between checks of the residual's largest component inside a cycle (the 2-norm
+#: the recurrence gives bounds it loosely: up to sqrt(N) times).
+CHECK_EVERY = 5
+
 #: Iterations per GMRES cycle (the Arnoldi basis holds RESTART + 1 vectors).
 RESTART = 100
 
@@ -82,7 +86,9 @@ def _cycle(apply, residual: np.ndarray, precondition, target: float, steps: int)
     """One GMRES cycle from zero for A d = residual: the correction d and the iterations used.
 
     Stops when the estimated 2-norm of the residual is below ``target`` (which bounds its
-    largest component), or after ``steps`` iterations.
+    largest component), when the largest component itself is (checked every
+    :data:`CHECK_EVERY` iterations once the 2-norm allows it, :func:`_largest_residual`), or
+    after ``steps`` iterations.
     """
     beta = float(np.linalg.norm(residual))
     basis = np.empty((steps + 1, residual.size))
@@ -115,8 +121,22 @@ def _cycle(apply, residual: np.ndarray, precondition, target: float, steps: int)
         if norm == 0.0 or abs(g[k + 1]) <= target:
             break
         basis[k + 1] = w / norm
+        if used % CHECK_EVERY == 0 and abs(g[k + 1]) <= target * np.sqrt(residual.size):
+            if _largest_residual(basis[: k + 2], cosines[:used], sines[:used], g[k + 1]) <= target:
+                break
     y = _back_substitute(hessenberg[:used, :used], g[:used])
     return y @ directions[:used], used
+
+
+def _largest_residual(basis: np.ndarray, cosines: np.ndarray, sines: np.ndarray, last: float) -> float:
+    """max|r_k| of the cycle's current least-squares residual r_k = V_{k+1} Q_k^T (0, ..., 0, g_{k+1})
+    (the Arnoldi relation A Z_k = V_{k+1} H_k; Q_k the Givens rotations), without a product by A."""
+    coefficients = np.zeros(basis.shape[0])
+    coefficients[-1] = last
+    for j in range(cosines.size - 1, -1, -1):  # Q^T: the transposed rotations, last first
+        a, b = coefficients[j], coefficients[j + 1]
+        coefficients[j], coefficients[j + 1] = cosines[j] * a - sines[j] * b, sines[j] * a + cosines[j] * b
+    return float(np.max(np.abs(coefficients @ basis)))
 
 
 def _back_substitute(upper: np.ndarray, values: np.ndarray) -> np.ndarray:
