@@ -12,6 +12,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 CASES = Path(__file__).resolve().parent.parent / "cases"
 
 #: Run ``rollc`` with the given arguments in this interpreter, then record its exit code and modules.
@@ -57,11 +59,15 @@ def test_version_imports_no_numerics(tmp_path):
     assert "rolling_cli.pipeline" not in modules
 
 
-def test_half_plane_solve_imports_no_bem_nor_plotting(tmp_path):
-    modules = _run(tmp_path, "-q", "solve", str(CASES / "carter.toml"), "-o", "carter.h5")
-    assert (tmp_path / "carter.h5").is_file()
+@pytest.mark.parametrize("case", ["carter.toml", "carter_stresses.toml"])
+def test_half_plane_solve_imports_no_bem_nor_plotting(tmp_path, case):
+    """The half-plane solve and write (and its subsurface stresses) need neither BEM nor plotting."""
+    modules = _run(tmp_path, "-q", "solve", str(CASES / case), "-o", "result.h5")
+    assert (tmp_path / "result.h5").is_file()
     # what this path does need is there: the check sees the real solve and write
     assert {"rolling_cli.influence.halfplane", "rolling_cli.pipeline", "rolling_cli.writer", "h5py"} <= modules
+    if case == "carter_stresses.toml":
+        assert "rolling_cli.stresses.halfplane" in modules
     for package in HEAVY:
         assert not _loaded(modules, package), package
 
