@@ -70,6 +70,7 @@ def test_half_plane_solve_imports_no_bem_nor_plotting(tmp_path, case):
         assert "rolling_cli.stresses.halfplane" in modules
     for package in HEAVY:
         assert not _loaded(modules, package), package
+    assert "rolling_cli.adapt.levels" not in modules  # a fixed mesh, no summary printed: no adaptive levels
 
 
 def test_bem_solve_imports_the_bem(tmp_path):
