@@ -13,7 +13,6 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-import scipy.linalg
 
 #: Systems at least this large use the single-precision LU with refinement.
 MIXED_PRECISION_SIZE = 1200
@@ -21,6 +20,8 @@ _REFINE_STEPS = 8
 
 
 def _factor(matrix: np.ndarray) -> tuple:
+    import scipy.linalg  # lazy: start-up (issue #14 item 1)
+
     with warnings.catch_warnings():  # an exactly singular pivot is reported below, as an error
         warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
         lu = scipy.linalg.lu_factor(matrix, check_finite=False)
@@ -35,6 +36,8 @@ def _factor(matrix: np.ndarray) -> tuple:
 
 def solve_dense(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """x with matrix @ x = rhs to double-precision accuracy."""
+    import scipy.linalg  # lazy: start-up (issue #14 item 1)
+
     if matrix.shape[0] == 0:
         return np.zeros(0)
     if matrix.shape[0] >= MIXED_PRECISION_SIZE:
