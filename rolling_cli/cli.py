@@ -111,7 +111,6 @@ def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, e
         from .case import load_case
         from .io_hdf5 import write_result
         from .pipeline import solve as run_solve
-        from .summary import summary
 
         case = load_case(case_file)
         out = output or default_output(case_file, case.output.file)
@@ -134,6 +133,8 @@ def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, e
 
                 plot_file(out, figure)
         if not ctx.obj["quiet"]:
+            from .summary import summary
+
             click.echo(summary(result, out))
         if not result.attributes.get("converged", True):
             _fail(f"{case_file}: {result.attributes.get('message')} (last iterate written to {out})", 1)

@@ -35,13 +35,13 @@ import math
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from . import __version__, materials
 from . import effects as effects_mod
 from .adapt import graded
-from .adapt import levels as adaptive
 from .case import Case, case_to_dict, case_to_toml, load_case
 from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
@@ -57,6 +57,9 @@ from .solver.strategies import Controls, Solution, StrategyFailed, Task
 from .stresses import power
 from .system import ContactSystem, abs_max, build_system
 from .validity import half_space_check
+
+if TYPE_CHECKING:  # the adaptive levels are imported only with [discretization] tolerance (start-up)
+    from .adapt import levels as adaptive
 
 log = logging.getLogger(__name__)
 
@@ -447,6 +450,8 @@ class MeshPath:
         disc = self.case.discretization
         last = self.points[-1][1]
         graded = last.plan.effects.influence == "half-plane"
+        from .adapt import levels as adaptive
+
         self.adaptation = adaptive.Adaptation(disc.tolerance, disc.max_refinements, graded, fits=self._fits)
         while True:
             last = self.points[-1][1]
@@ -474,6 +479,8 @@ class MeshPath:
     def _fields(self, level: Level) -> adaptive.LevelFields:
         """The nodal fields of a solved level that the adaptive decision and transfer use."""
         if level.fields is None:
+            from .adapt import levels as adaptive
+
             state, system, mu = level.solution.state, level.system, level.case.friction.mu
             stick = level.solution.stick
             if not level.plan.effects.tangential and mu > 0.0:
@@ -544,6 +551,8 @@ class MeshPath:
         nodes there in contact, and Newton sheds surplus contact nodes only a few per iteration
         (measured on the dissimilar case at tolerance 1e-4: 41-76 iterations per fine level with
         the projected states, 1-5 with the pressure's)."""
+        from .adapt import levels as adaptive
+
         warm = adaptive.transferred_state(self._fields(previous), level.plan.grid)
         cold = initial_state(level.case, level.plan, self._system(level))
         task = self._task(level, level.system)

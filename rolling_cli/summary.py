@@ -5,7 +5,6 @@ from __future__ import annotations
 import json
 import math
 
-from .adapt.levels import summary_line
 from .result import Result
 from .stresses import power
 
@@ -60,6 +59,8 @@ def summary(result: Result, output: str | None = None) -> str:
         if name == "separation":
             continue
         lines.append(f"  {name:<14} x = {start:.5g} .. {end:.5g} {length}")
+    from .adapt.levels import summary_line  # imported when a summary is printed (not by rollc -q)
+
     accuracy = summary_line(attrs)
     if accuracy:
         lines.append(accuracy)

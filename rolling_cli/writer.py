@@ -338,7 +338,8 @@ class ResultFile:
             v.kind.dtype.itemsize * (node_cap if "node" in v.dims else 1) for v in schema.values() if "case" in v.dims
         )
         case_cap = self._capacity(need_rows, self.case_cap, self.total, PREALLOCATE // max(row_bytes, 1))
-        hist_cap = self._capacity(need_hist, self.hist_cap, None)
+        complete = self.total is not None and need_rows >= self.total  # no rows (nor history rows) to come
+        hist_cap = self._capacity(need_hist, self.hist_cap, need_hist if complete else None)
         if need_rows and case_cap > need_rows:  # room for the history rows of the rows to come
             hist_cap = max(hist_cap, math.ceil(1.25 * case_cap * need_hist / need_rows))
         return {

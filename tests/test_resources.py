@@ -23,6 +23,7 @@ CASES = Path(__file__).resolve().parents[1] / "cases"
 # and the growth of the peak resident set (ru_maxrss) over the imports' baseline.
 _MEASURE = """
 import json, resource, sys, tracemalloc
+import scipy.linalg  # loaded lazily by the first dense solve: its modules' memory is no array of the solve
 from rolling_cli.case import load_case
 from rolling_cli.pipeline import solve
 case = load_case(json.loads(sys.argv[1]))

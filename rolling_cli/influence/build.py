@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..grid import ContactGrid
-from . import Compliance, cache, combine, halfplane
+from . import Compliance, combine, halfplane
 
 if TYPE_CHECKING:  # the BEM package (and scipy.linalg) is imported only when a BEM body is built
     from . import bem
@@ -84,6 +84,8 @@ def _bem_body(inputs: dict, use_cache: bool) -> tuple[Compliance, str]:
     frozen = tuple(sorted(inputs.items()))
     if frozen in _memo:
         return _memo[frozen], "reused in-process"
+    from . import cache  # the disk cache only for BEM bodies (start-up)
+
     found, origin = cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
     _memo[frozen] = found
     if len(_memo) > 8:

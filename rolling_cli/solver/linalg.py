@@ -5,7 +5,11 @@ double precision (mixed-precision iterative refinement): the LU then costs
 ~40 % less on this kind of machine, and the refined solution has a double
 precision residual. If refinement does not converge (condition number near
 1/eps_single), the system is refactorised in double precision. Small systems
-go straight to double precision.
+go straight to numpy's LAPACK solve (the same getrf/getrs as scipy's LU, so
+the same answer; scipy.linalg is not imported for them: start-up, issue #14).
+A degenerate contact or adhesion set makes the matrix singular: an exactly
+singular one raises, a numerically singular one gives a non-finite or huge
+step, and both end the strategy (:mod:`rolling_cli.solver.newton`).
 """
 
 from __future__ import annotations
@@ -13,23 +17,25 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-import scipy.linalg
 
 #: Systems at least this large use the single-precision LU with refinement.
 MIXED_PRECISION_SIZE = 1200
 _REFINE_STEPS = 8
+_SINGULAR = (
+    "singular Newton system: the contact or adhesion set is degenerate (for example no contact node, "
+    "or a gauge node in contact); the potential zone may be too small"
+)
 
 
 def _factor(matrix: np.ndarray) -> tuple:
+    import scipy.linalg  # lazy: start-up (issue #14 item 1)
+
     with warnings.catch_warnings():  # an exactly singular pivot is reported below, as an error
         warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
         lu = scipy.linalg.lu_factor(matrix, check_finite=False)
     diag = np.abs(np.diag(lu[0]))
     if diag.size and not diag.min() > 1e-13 * diag.max():
-        raise np.linalg.LinAlgError(
-            "singular Newton system: the contact or adhesion set is degenerate (for example no contact node, "
-            "or a gauge node in contact); the potential zone may be too small"
-        )
+        raise np.linalg.LinAlgError(_SINGULAR)
     return lu
 
 
@@ -37,6 +43,16 @@ def solve_dense(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """x with matrix @ x = rhs to double-precision accuracy."""
     if matrix.shape[0] == 0:
         return np.zeros(0)
+    if matrix.shape[0] < MIXED_PRECISION_SIZE:
+        try:
+            x = np.linalg.solve(matrix, rhs)
+        except np.linalg.LinAlgError:
+            raise np.linalg.LinAlgError(_SINGULAR) from None
+        if not np.all(np.isfinite(x)):
+            raise np.linalg.LinAlgError(_SINGULAR)
+        return x
+    import scipy.linalg  # lazy: start-up (issue #14 item 1); only large systems use it
+
     if matrix.shape[0] >= MIXED_PRECISION_SIZE:
         lu = _factor(matrix.astype(np.float32))
         x = scipy.linalg.lu_solve(lu, rhs.astype(np.float32), check_finite=False).astype(float)

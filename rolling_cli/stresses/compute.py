@@ -29,9 +29,8 @@ import numpy as np
 
 from .. import materials
 from ..influence import build
-from ..influence.bem.elements import lagrange_coefficients
 from ..influence.choice import influence_model
-from . import bem, halfplane, invariants
+from . import halfplane, invariants
 
 #: Field margin beyond the potential contact zone, as a fraction of its half-width.
 MARGIN = 0.25
@@ -124,6 +123,8 @@ def _halfplane(case, the_plan, p_n, p_t, labels) -> dict:
 
 
 def _bem(case, the_plan, p_n, p_t, labels) -> dict:
+    from . import bem  # the BEM package only for BEM bodies (start-up)
+
     grid = the_plan.grid
     out = {}
     solutions = _boundary_solutions(case, the_plan, p_n, p_t, labels)
@@ -170,6 +171,8 @@ def bond_line(mesh, t: np.ndarray) -> dict[str, np.ndarray]:
     increasing x and ``bond_weights`` [length] (integrals of the nodal shape
     functions along the bond, so sum(w sigma) is the force per unit length).
     """
+    from ..influence.bem.elements import lagrange_coefficients
+
     nodes = np.flatnonzero(mesh.fixed)
     order = np.argsort(mesh.nodes[nodes, 0])
     nodes = nodes[order]

@@ -1,0 +1,92 @@
+"""Start-up (issue #14 item 1): each command imports only what its case needs.
+
+Each check runs ``rollc`` in a fresh interpreter and records ``sys.modules``
+after the command: what the command imported, whatever imported it. Speed
+itself is measured in benchmarks/startup.py (no timing here). The BEM case
+checks the other direction, so that a check which never saw the BEM package
+imported cannot pass by accident (for instance a broken recorder).
+"""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+CASES = Path(__file__).resolve().parent.parent / "cases"
+
+#: Run ``rollc`` with the given arguments in this interpreter, then record its exit code and modules.
+_RECORDER = """
+import json, sys
+out, args = sys.argv[1], sys.argv[2:]
+sys.argv = ["rollc", *args]
+from rolling_cli.cli import main
+try:
+    main()
+    code = 0
+except SystemExit as exit:
+    code = exit.code or 0
+with open(out, "w") as handle:
+    json.dump({"code": code, "modules": sorted(sys.modules)}, handle)
+"""
+
+#: Packages the half-plane solve and write must not import (only other cases or commands need them).
+HEAVY = ("rolling_cli.influence.bem", "matplotlib", "scipy.optimize", "scipy.special", "scipy.sparse", "xarray", "dask")
+
+
+def _run(tmp_path: Path, *args: str) -> set[str]:
+    """The modules loaded after ``rollc *args`` in a fresh interpreter run in ``tmp_path``."""
+    record = tmp_path / "modules.json"
+    done = subprocess.run(
+        [sys.executable, "-c", _RECORDER, str(record), *args], cwd=tmp_path, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    data = json.loads(record.read_text())
+    assert data["code"] == 0, done.stderr
+    return set(data["modules"])
+
+
+def _loaded(modules: set[str], package: str) -> list[str]:
+    return sorted(m for m in modules if m == package or m.startswith(package + "."))
+
+
+def test_version_imports_no_numerics(tmp_path):
+    modules = _run(tmp_path, "--version")
+    assert "rolling_cli.cli" in modules  # the recorder ran the command
+    for package in ("numpy", "scipy", "h5py", "matplotlib", "rolling_cli.influence", "rolling_cli.solver"):
+        assert not _loaded(modules, package), package
+    assert "rolling_cli.pipeline" not in modules
+
+
+@pytest.mark.parametrize("case", ["carter.toml", "carter_stresses.toml"])
+def test_half_plane_solve_imports_no_bem_nor_plotting(tmp_path, case):
+    """The half-plane solve and write (and its subsurface stresses) need neither BEM nor plotting."""
+    modules = _run(tmp_path, "-q", "solve", str(CASES / case), "-o", "result.h5")
+    assert (tmp_path / "result.h5").is_file()
+    # what this path does need is there: the check sees the real solve and write
+    assert {"rolling_cli.influence.halfplane", "rolling_cli.pipeline", "rolling_cli.writer", "h5py"} <= modules
+    if case == "carter_stresses.toml":
+        assert "rolling_cli.stresses.halfplane" in modules
+    for package in HEAVY:
+        assert not _loaded(modules, package), package
+    assert "rolling_cli.adapt.levels" not in modules  # a fixed mesh, no summary printed: no adaptive levels
+
+
+def test_bem_solve_imports_the_bem(tmp_path):
+    """The counter-check: a BEM case built here does load the BEM package."""
+    modules = _run(tmp_path, "-q", "solve", str(CASES / "paper_fig3_q051.toml"), "-o", "bem.h5", "--no-cache")
+    assert (tmp_path / "bem.h5").is_file()
+    assert _loaded(modules, "rolling_cli.influence.bem")
+    assert not _loaded(modules, "matplotlib")
+
+
+def test_bem_cache_hit_imports_no_bem(tmp_path, monkeypatch):
+    """A BEM case whose influence is in the disk cache needs no BEM code: the first run builds (and
+    imports the BEM), the second reads the cache only."""
+    monkeypatch.setenv("ROLLC_CACHE_DIR", str(tmp_path / "cache"))  # empty: the first run must build
+    args = ("-q", "solve", str(CASES / "paper_fig3_q051.toml"), "--overwrite", "-o")
+    assert _loaded(_run(tmp_path, *args, "first.h5"), "rolling_cli.influence.bem")
+    modules = _run(tmp_path, *args, "second.h5")
+    assert (tmp_path / "second.h5").is_file()
+    assert not _loaded(modules, "rolling_cli.influence.bem")
