@@ -49,7 +49,7 @@ from .influence.build import clear_memo, pair_compliance
 from .references import carter, hertz, thin_layer
 from .resources import check_resources
 from .result import Result, node_states, utc_timestamp
-from .solver import continuation, control, formulation, matrix_free, predictor, strategies
+from .solver import continuation, control, formulation, predictor, strategies
 from .solver.budget import Budget
 from .solver.formulation import State
 from .solver.initial import carter_ratio_for_creep, cold_start
@@ -804,6 +804,15 @@ def coupling_strength(system: ContactSystem) -> float | None:
     return abs_max(system.B_tn, rows) / abs_max(system.B_tt, rows)
 
 
+def _linear_solver_attributes(system: ContactSystem) -> dict:
+    """``linear_solver`` and, matrix-free, the Krylov counts (:func:`.solver.matrix_free.result_attributes`)."""
+    if not system.matrix_free:
+        return {"linear_solver": system.linear_solver}
+    from .solver import matrix_free
+
+    return matrix_free.result_attributes(system)
+
+
 def assemble(level: Level, history: list[dict], timings: dict, converged: bool = True) -> Result:
     """The :class:`Result` of a solved level: arrays, loads, zones, references and provenance."""
     case, the_plan, system, solution = level.case, level.plan, level.system, level.solution
@@ -883,7 +892,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "contact_elements": the_plan.grid.elements,
         "effects": effects.to_json(),
         "coupling_strength": strength or 0.0,
-        **matrix_free.result_attributes(system),
+        **_linear_solver_attributes(system),
         "effects_line": effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,

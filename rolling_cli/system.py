@@ -22,7 +22,6 @@ import numpy as np
 from . import slip
 from .grid import ContactGrid, node_cell_edges
 from .influence import Compliance
-from .influence.toeplitz import BlockToeplitz
 
 
 @dataclass(frozen=True)
@@ -75,7 +74,7 @@ class ContactSystem:
     def matrix_free(self) -> bool:
         """True when the blocks are block-Toeplitz operators: the Newton system is then applied
         matrix-free and solved by a preconditioned Krylov method instead of a dense LU."""
-        return isinstance(self.S_nn, BlockToeplitz)
+        return _is_operator(self.S_nn)
 
     @property
     def linear_solver(self) -> str:
@@ -147,23 +146,28 @@ def automatic_penalties(S_nn: np.ndarray, B_tt: np.ndarray, direction: int) -> t
     return r_n, r_t
 
 
+def _is_operator(matrix) -> bool:
+    """True for a block-Toeplitz operator, False for a dense array (the module is not imported for it)."""
+    return matrix is not None and not isinstance(matrix, np.ndarray)
+
+
 def entries(matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
     """matrix[rows, cols] (broadcast index arrays) of a dense block or a block-Toeplitz operator."""
-    if isinstance(matrix, BlockToeplitz):
+    if _is_operator(matrix):
         return matrix.entries(rows, cols)
     return matrix[rows, cols]
 
 
 def abs_max(matrix, rows: np.ndarray) -> float:
     """max |matrix_ij| over the given rows (an index array or a boolean mask), dense or block-Toeplitz."""
-    if isinstance(matrix, BlockToeplitz):
+    if _is_operator(matrix):
         return matrix.abs_max(rows)
     return float(np.abs(matrix[rows]).max())
 
 
 def abs_row_sum_max(matrix, rows: np.ndarray | None = None) -> float:
     """max_i sum_j |matrix_ij| over the given rows (None: all), dense or block-Toeplitz."""
-    if isinstance(matrix, BlockToeplitz):
+    if _is_operator(matrix):
         sums = matrix.abs_row_sums()
         return float((sums if rows is None else sums[rows]).max())
     return float(np.abs(matrix if rows is None else matrix[rows]).sum(axis=1).max())
@@ -228,14 +232,14 @@ def build_system(
 
 def _slip_block(matrix, spacing, direction: int, scheme: str):
     """T @ matrix (:func:`rolling_cli.slip.apply_t`), for a dense block or a block-Toeplitz operator."""
-    if isinstance(matrix, BlockToeplitz):
+    if _is_operator(matrix):
         return matrix.upwind_derivative(spacing, direction, scheme)
     return slip.apply_t(matrix, spacing, direction, scheme)
 
 
 def _downwind_row(matrix, spacing, direction: int) -> np.ndarray:
     """The gauge node's downwind slip row (:func:`rolling_cli.slip.downwind_row`), dense or block-Toeplitz."""
-    if isinstance(matrix, BlockToeplitz):
+    if _is_operator(matrix):
         n = matrix.shape[0]
         g = slip.gauge_index(n, direction)
         inner = g - 1 if direction < 0 else g + 1
