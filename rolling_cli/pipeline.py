@@ -55,7 +55,7 @@ from .solver.formulation import State
 from .solver.initial import carter_ratio_for_creep, cold_start
 from .solver.strategies import Controls, Solution, StrategyFailed, Task
 from .stresses import power
-from .system import ContactSystem, build_system
+from .system import ContactSystem, abs_max, build_system
 from .validity import half_space_check
 
 if TYPE_CHECKING:  # the adaptive levels are imported only with [discretization] tolerance (start-up)
@@ -801,7 +801,16 @@ def coupling_strength(system: ContactSystem) -> float | None:
         return None
     rows = np.ones(system.size, dtype=bool)
     rows[system.gauge] = False
-    return float(np.abs(system.B_tn[rows]).max() / np.abs(system.B_tt[rows]).max())
+    return abs_max(system.B_tn, rows) / abs_max(system.B_tt, rows)
+
+
+def _linear_solver_attributes(system: ContactSystem) -> dict:
+    """``linear_solver`` and, matrix-free, the Krylov counts (:func:`.solver.matrix_free.result_attributes`)."""
+    if not system.matrix_free:
+        return {"linear_solver": system.linear_solver}
+    from .solver import matrix_free
+
+    return matrix_free.result_attributes(system)
 
 
 def assemble(level: Level, history: list[dict], timings: dict, converged: bool = True) -> Result:
@@ -883,6 +892,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "contact_elements": the_plan.grid.elements,
         "effects": effects.to_json(),
         "coupling_strength": strength or 0.0,
+        **_linear_solver_attributes(system),
         "effects_line": effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,

@@ -10,7 +10,10 @@ contact nodes in the Newton system, m the size of the reduced Newton matrix):
 
 * **half-plane influence** (:mod:`~rolling_cli.influence.halfplane`):
   S_nn and S_tt (= -S_nn), plus the shared S_nt = S_tn when coupled:
-  (2 + coupled) n^2.
+  (2 + coupled) n^2; on the matrix-free path (uniform grids from
+  ``halfplane.OPERATOR_NODES`` nodes) each block is a block-Toeplitz
+  operator of ~4 m n doubles (m nodes per element: offset blocks and their
+  spectrum), and so are B_tt (+ B_tn).
 * **BEM body** (:mod:`~rolling_cli.influence.bem`), split into its two
   mirror halves (every body the model meshes is its own mirror image; one
   that is not would need the whole system, twice this), the larger of
@@ -26,7 +29,12 @@ contact nodes in the Newton system, m the size of the reduced Newton matrix):
 * **Newton** (:mod:`~rolling_cli.solver.newton`): the reduced matrix m^2, its
   LAPACK copy m^2 and 2 n_c^2 of gathered blocks, with n_c = n / zone (the
   Hertz contact) and m = n_c (decoupled: normal and tangential solves apart)
-  or 2 n_c (coupled, every contact node adhering at worst).
+  or 2 n_c (coupled, every contact node adhering at worst). Matrix-free
+  (:func:`_krylov_newton`): the preconditioner's band, the GMRES basis, the
+  band assembly's temporaries and O(n) vectors, all linear in n.
+* **grid sequencing** (coupled half-plane solves from ``SEQUENCING_ELEMENTS``):
+  each coarse level is a level of its own, its influence kept (memoised)
+  while the finer ones run; the peak is the largest level's.
 * **pre-solve** (an overlap, or a layer): coarse BEM solves measure a before
   the mesh is made (:func:`rolling_cli.pipeline.estimate_half_width`); their
   meshes are counted the same way (the first trial), and a is taken as
@@ -36,15 +44,15 @@ Measured peak RSS stays within :data:`ALLOCATOR_MARGIN` of the traced arrays
 (allocator and LAPACK workspace; ``tests/test_resources.py``,
 ``benchmarks/bench_resources.py``). Not counted: a second attempt after the
 potential zone is enlarged (the first one's influence stays memoised), the
-``--error-estimate`` re-solve (a quarter of the size), and sweeps' several
-workers (pass ``copies``).
+``--error-estimate`` re-solve (a quarter of the size), sweeps' several
+workers (pass ``copies``), and the dense LU a stalled Krylov step falls back to
+(at most ``matrix_free.DENSE_FALLBACK`` unknowns: 128 MB and its LU copy).
 
 The work is a rough count of floating-point operations: BEM assembly
 (:data:`BEM_PAIR_FLOPS` per collocation node and element), LU
 factorisations (2/3 k^3) and :data:`NEWTON_ITERATIONS` Newton iterations.
-When a change makes the code allocate differently (issue #14: a matrix-free
-half-plane path), update the stage functions here and the measurement test
-says whether the model still holds.
+When a change makes the code allocate differently, update the stage
+functions here and the measurement test says whether the model still holds.
 """
 
 from __future__ import annotations
@@ -79,6 +87,22 @@ BEM_BLOCK_TEMPORARIES = 2.6
 
 #: Element growth of the BEM mesh away from the zone (``influence.bem.mesh.rectangle``).
 BEM_GROWTH = 1.4
+
+#: Doubles per gathered entry while the Krylov preconditioner's band is assembled (index and
+#: value temporaries of ``solver.near_field._band``). With KRYLOV_VECTORS and KRYLOV_IMPORTS
+#: fitted to the traced peaks of 3,000-10,000 nodes (model / traced 0.9-1.2, Carter and the
+#: dissimilar case); at 1,200 nodes the fixed import term makes the model up to 1.7x the traced
+#: peak (it bounds the resident set, which the imports do grow).
+KRYLOV_CHUNK_TEMPORARIES = 4.0
+
+#: Doubles per contact node of the matrix-free Newton's vectors (transforms of the tractions,
+#: node states, evaluations, history): measured.
+KRYLOV_VECTORS = 100.0
+
+#: The modules the matrix-free path imports when it first runs (scipy.fft, the LAPACK band
+#: routines) and their plan caches, in doubles (6 MB): measured as the growth of the resident
+#: set at 1,200 - 3,000 nodes, where it is most of it.
+KRYLOV_IMPORTS = 6.0e6 / 8
 
 _DOUBLE = 8
 
@@ -146,30 +170,79 @@ def _layered(case) -> bool:
 
 
 def _main(case, half_width: float) -> tuple[str, float, float, int, int, str]:
-    """The solve on the case's own mesh, a = ``half_width``."""
+    """The solve on the case's own mesh, a = ``half_width``, after its coarse grid levels
+    (grid sequencing), whose influences stay memoised while the finer levels run."""
     from .pipeline import SEQUENCING_ELEMENTS, plan
 
     disc = case.discretization
     the_plan = plan(case, half_width=half_width, check=False)
+    levels = [(case, the_plan)]
+    if (
+        the_plan.effects.influence == "half-plane"
+        and the_plan.effects.strategy == "coupled"
+        and disc.contact_elements >= SEQUENCING_ELEMENTS
+    ):
+        elements = disc.contact_elements
+        while elements >= SEQUENCING_ELEMENTS:
+            elements //= 4
+            coarse = dataclasses.replace(case, discretization=dataclasses.replace(disc, contact_elements=elements))
+            levels.insert(0, (coarse, plan(coarse, half_width=half_width, check=False)))
+    memoised, flops, stages = 0.0, 0.0, []
+    for level_case, level_plan in levels:
+        name, doubles, level_flops, kept, boundary, key = _level(level_case, level_plan)
+        coarse = level_plan is not the_plan
+        stages.append((name + (" on a coarse grid" if coarse else ""), memoised + doubles))
+        memoised += kept
+        flops += level_flops
+    name, doubles = max(stages, key=lambda s: s[1])
+    return name, doubles, flops, the_plan.grid.size, boundary, key
+
+
+def _level(case, the_plan) -> tuple[str, float, float, float, int, str]:
+    """One mesh level: its peak stage and doubles, work, the influence it keeps memoised,
+    the largest BEM N and the driving key."""
+    disc = case.discretization
     n = the_plan.grid.size
     coupled = the_plan.effects.coupling
     stages, flops, boundary, key = _influence(case, the_plan)
     kept = _kept_influence(case, the_plan)
-    system = (1 + coupled) * n**2
-    if disc.slip_derivative == "element":
-        stages.append(("the contact system", kept + system + 2 * n**2))
-    newton, newton_flops = _newton(n, disc.zone, the_plan.effects.strategy == "coupled")
-    if disc.influence == "half-plane" and coupled and disc.contact_elements >= SEQUENCING_ELEMENTS:
-        kept += kept / 16.0  # grid sequencing: the coarse grid's influence stays memoised
+    strategy_coupled = the_plan.effects.strategy == "coupled"
+    if _operators(the_plan):
+        system = (1 + coupled) * (_toeplitz_doubles(the_plan.grid) + 2 * n)
+        newton, newton_flops = _krylov_newton(n, disc.zone, strategy_coupled)
+    else:
+        system = (1 + coupled) * n**2
+        newton, newton_flops = _newton(n, disc.zone, strategy_coupled)
+        if disc.slip_derivative == "element":
+            stages.append(("the contact system", kept + system + 2 * n**2))
     stages.append(("Newton", kept + system + newton))
     name, doubles = max(stages, key=lambda s: s[1])
-    return name, doubles, flops + newton_flops, n, boundary, key
+    return name, doubles, flops + newton_flops, kept, boundary, key
+
+
+def _operators(the_plan) -> bool:
+    """True when the level's half-plane blocks are block-Toeplitz operators (the matrix-free path)."""
+    if the_plan.effects.influence != "half-plane":
+        return False
+    from .influence.halfplane import use_operators
+
+    return use_operators(the_plan.grid)
+
+
+def _toeplitz_doubles(grid) -> float:
+    """Doubles of one block-Toeplitz operator: its 2 N_e - 1 offset blocks of m x m values and
+    their spectrum, m^2 complex values per frequency of a transform of length ~2 N_e: 4 m n."""
+    m = grid.size // grid.elements
+    return 4.0 * m * grid.size
 
 
 def _influence(case, the_plan) -> tuple[list[tuple[str, float]], float, int, str]:
     """Peak stages of the influence build, its work, the largest BEM N and the driving key."""
     n = the_plan.grid.size
     coupled = the_plan.effects.coupling
+    if _operators(the_plan):
+        doubles = (2 + coupled) * _toeplitz_doubles(the_plan.grid)
+        return [("the half-plane influence", doubles)], 10.0 * doubles, 0, "discretization.contact_elements"
     if the_plan.effects.influence == "half-plane":
         return [("the half-plane influence", (2 + coupled) * n**2)], 10.0 * n**2, 0, "discretization.contact_elements"
     stages = []
@@ -205,6 +278,8 @@ def _kept_influence(case, the_plan) -> float:
     """Influence arrays held through the solve [doubles]: memoised bodies and the pair."""
     n = the_plan.grid.size
     coupled = the_plan.effects.coupling
+    if _operators(the_plan):
+        return (2 + coupled) * _toeplitz_doubles(the_plan.grid)
     if the_plan.effects.influence == "half-plane":
         return (2 + coupled) * n**2
     bodies = len(_computed_bodies(case, the_plan))
@@ -217,6 +292,33 @@ def _newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     size = 2 * contact if coupled else contact
     doubles = 2 * size**2 + 2 * contact**2
     flops = NEWTON_ITERATIONS * ((2.0 / 3.0) * size**3 + 8.0 * n**2)
+    return doubles, flops
+
+
+def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
+    """Peak doubles and work of the matrix-free Newton iterations on n nodes
+    (:mod:`rolling_cli.solver.matrix_free`): :data:`KRYLOV_VECTORS` per node of vectors
+    (transforms, node states, evaluations), the modules the path imports on first use
+    (:data:`KRYLOV_IMPORTS`) and the largest of three phases of each step, with
+    B = (3 h + 1) per unknown the preconditioner's band in LAPACK storage (h = (W + 1) per
+    node - 1, W = NEAR_FIELD, per node 2 coupled): its assembly (B and the gathered chunk's
+    temporaries), its single-precision factorisation (1.5 B: the double band and its float32
+    copy) and GMRES (B / 2, the Arnoldi basis and the preconditioned directions, 2 restart + 1
+    per unknown)."""
+    from .solver import krylov, matrix_free, near_field
+
+    contact = n / zone
+    per_node = 2 if coupled else 1
+    size = per_node * contact
+    half = per_node * (matrix_free.NEAR_FIELD + 1) - 1
+    band = (3 * half + 1) * size
+    restart = krylov.RESTART
+    chunk = KRYLOV_CHUNK_TEMPORARIES * min(near_field.CHUNK, (2 * half + 1) * size)
+    phases = (band + chunk, 1.5 * band, 0.5 * band + (2 * restart + 1) * size)
+    doubles = max(phases) + KRYLOV_VECTORS * n + KRYLOV_IMPORTS
+    iterations = 50  # Krylov iterations per Newton step, a rough mean (benchmarks/bench_solve.py)
+    per_iteration = 40.0 * n * math.log2(max(n, 2)) + 4.0 * size * (3 * half + 1) + 4.0 * restart * size
+    flops = NEWTON_ITERATIONS * (2.0 * size * half**2 + iterations * per_iteration)
     return doubles, flops
 
 

@@ -6,7 +6,11 @@
 gap0 = x^2 / (2 R*) is the undeformed profile (eq. 7), ``overlap`` the imposed
 rigid approach, xi the creepage, e the creep vector (0 on the gauge row) and T
 the upwind slip operator of :mod:`rolling_cli.slip`. The contact laws and the
-Newton solver in :mod:`rolling_cli.solver` only see these plain arrays.
+Newton solver in :mod:`rolling_cli.solver` only see these plain arrays, or, for
+large uniform half-plane grids, block-Toeplitz operators with the same entries
+(:class:`~rolling_cli.influence.toeplitz.BlockToeplitz`: ``@``, exact entries,
+row sums); :attr:`ContactSystem.matrix_free` says which, and the Newton
+system is then solved matrix-free (:mod:`rolling_cli.solver.matrix_free`).
 """
 
 from __future__ import annotations
@@ -32,7 +36,9 @@ class ContactSystem:
     choose the node states of the Newton Jacobian; ``reference_penalty_*`` are
     the automatic ones, which measure the residual. ``S_nt``/``B_tn`` are ``None`` when
     the coupling is not simulated. ``gauge_tn``/``gauge_tt`` are the slip rows of
-    the gauge node by a downwind difference, for reporting only.
+    the gauge node by a downwind difference, for reporting only. The four blocks
+    are dense arrays, or all :class:`~rolling_cli.influence.toeplitz.BlockToeplitz`
+    operators (:attr:`matrix_free`).
     """
 
     x: np.ndarray
@@ -63,6 +69,18 @@ class ContactSystem:
     def coupled(self) -> bool:
         """True when the normal-tangential coupling blocks are present."""
         return self.S_nt is not None
+
+    @property
+    def matrix_free(self) -> bool:
+        """True when the blocks are block-Toeplitz operators: the Newton system is then applied
+        matrix-free and solved by a preconditioned Krylov method instead of a dense LU."""
+        return _is_operator(self.S_nn)
+
+    @property
+    def linear_solver(self) -> str:
+        """The linear solver of the Newton steps on this system: "dense LU" or "Krylov" (the
+        history column and result attribute ``linear_solver``)."""
+        return "Krylov" if self.matrix_free else "dense LU"
 
     def node_cells(self) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper edges of every node's cell [length] (:func:`~rolling_cli.grid.node_cell_edges`)."""
@@ -122,10 +140,37 @@ def automatic_penalties(S_nn: np.ndarray, B_tt: np.ndarray, direction: int) -> t
     rows = np.delete(np.arange(n), g)
     offsets = np.arange(-PENALTY_BAND, PENALTY_BAND + 1)
     cols = np.clip(rows[:, None] + offsets[None, :], 0, n - 1)
-    r_t = 1.0 / float(np.max(np.abs(B_tt[rows[:, None], cols])))
+    r_t = 1.0 / float(np.max(np.abs(entries(B_tt, rows[:, None], cols))))
     up = rows - direction  # the upstream neighbour of every slip row
-    r_n = 1.0 / float(np.max(np.abs(S_nn[rows[:, None], cols] - S_nn[up[:, None], cols])))
+    r_n = 1.0 / float(np.max(np.abs(entries(S_nn, rows[:, None], cols) - entries(S_nn, up[:, None], cols))))
     return r_n, r_t
+
+
+def _is_operator(matrix) -> bool:
+    """True for a block-Toeplitz operator, False for a dense array (the module is not imported for it)."""
+    return matrix is not None and not isinstance(matrix, np.ndarray)
+
+
+def entries(matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """matrix[rows, cols] (broadcast index arrays) of a dense block or a block-Toeplitz operator."""
+    if _is_operator(matrix):
+        return matrix.entries(rows, cols)
+    return matrix[rows, cols]
+
+
+def abs_max(matrix, rows: np.ndarray) -> float:
+    """max |matrix_ij| over the given rows (an index array or a boolean mask), dense or block-Toeplitz."""
+    if _is_operator(matrix):
+        return matrix.abs_max(rows)
+    return float(np.abs(matrix[rows]).max())
+
+
+def abs_row_sum_max(matrix, rows: np.ndarray | None = None) -> float:
+    """max_i sum_j |matrix_ij| over the given rows (None: all), dense or block-Toeplitz."""
+    if _is_operator(matrix):
+        sums = matrix.abs_row_sums()
+        return float((sums if rows is None else sums[rows]).max())
+    return float(np.abs(matrix if rows is None else matrix[rows]).sum(axis=1).max())
 
 
 #: Half-width of the diagonal band searched for the penalty scales.
@@ -153,12 +198,12 @@ def build_system(
     n = x.shape[0]
     spacing, largest = _slip_spacing(x, grid)
     g = slip.gauge_index(n, direction)
-    b_tt = slip.apply_t(compliance.S_tt, spacing, direction, scheme)
+    b_tt = _slip_block(compliance.S_tt, spacing, direction, scheme)
     b_tn = None
     gauge_tn = None
     if compliance.S_tn is not None:
-        b_tn = slip.apply_t(compliance.S_tn, spacing, direction, scheme)
-        gauge_tn = slip.downwind_row(compliance.S_tn, spacing, direction)
+        b_tn = _slip_block(compliance.S_tn, spacing, direction, scheme)
+        gauge_tn = _downwind_row(compliance.S_tn, spacing, direction)
     ref_n, ref_t = automatic_penalties(compliance.S_nn, b_tt, direction)
     r_n, r_t = ref_n, ref_t
     if penalty is not None:
@@ -180,9 +225,27 @@ def build_system(
         reference_penalty_n=ref_n,
         reference_penalty_t=ref_t,
         gauge_tn=gauge_tn,
-        gauge_tt=slip.downwind_row(compliance.S_tt, spacing, direction),
+        gauge_tt=_downwind_row(compliance.S_tt, spacing, direction),
         definite_normal=compliance.definite_normal,
     )
+
+
+def _slip_block(matrix, spacing, direction: int, scheme: str):
+    """T @ matrix (:func:`rolling_cli.slip.apply_t`), for a dense block or a block-Toeplitz operator."""
+    if _is_operator(matrix):
+        return matrix.upwind_derivative(spacing, direction, scheme)
+    return slip.apply_t(matrix, spacing, direction, scheme)
+
+
+def _downwind_row(matrix, spacing, direction: int) -> np.ndarray:
+    """The gauge node's downwind slip row (:func:`rolling_cli.slip.downwind_row`), dense or block-Toeplitz."""
+    if _is_operator(matrix):
+        n = matrix.shape[0]
+        g = slip.gauge_index(n, direction)
+        inner = g - 1 if direction < 0 else g + 1
+        end = matrix.block(np.array([inner, g]))
+        return (end[0] - end[1]) / spacing
+    return slip.downwind_row(matrix, spacing, direction)
 
 
 #: Node distances may differ from a uniform spacing by this fraction (round-off of the node positions).

@@ -142,7 +142,7 @@ class Discretization:
     influence: str = spec(
         "auto", doc="influence model (auto: half-plane where exact, else BEM)", kind="str", choices=MODELS
     )
-    contact_elements: int = spec(200, doc="elements over the potential contact zone", kind="int", ge=2, le=20000)
+    contact_elements: int = spec(200, doc="elements over the potential contact zone", kind="int", ge=2, le=50000)
     zone: float = spec(1.5, doc="potential zone half-width / Hertz a", kind="float", gt=1.0, le=20.0)
     element: str = spec(
         "quadratic",

@@ -12,7 +12,10 @@ reference length L only shifts w and u by constants, so the normal approach
 (overlap) of a half-plane is undefined and this model must be loaded by force.
 Element integrals are exact (:mod:`rolling_cli.kernels`) for any element
 length. On a uniform grid each matrix is block-Toeplitz: only the 2 N_e - 1
-element offsets are integrated and the matrix is gathered from them. On a
+element offsets are integrated and the matrix is gathered from them, or, on
+large grids (:func:`use_operators`), kept as a
+:class:`~rolling_cli.influence.toeplitz.BlockToeplitz` operator (O(n) memory,
+FFT products) with the same entries. On a
 graded grid every (target node, source element) pair is integrated in its own
 element's local coordinate (:func:`graded_log_matrix`, :func:`graded_sign_matrix`),
 O(n N_e) work, the size of the matrix itself.
@@ -92,31 +95,41 @@ def graded_sign_matrix(grid: ContactGrid) -> np.ndarray:
     return _graded_matrix(grid, sign_moments, None)
 
 
-def log_matrix(grid: ContactGrid, length_scale: float) -> np.ndarray:
-    """L[i, j] = int N_j(s) ln(|x_i - s| / length_scale) ds [length] (block-Toeplitz path when uniform)."""
-    if not grid.uniform:
-        return graded_log_matrix(grid, length_scale)
+def log_offsets(grid: ContactGrid, length_scale: float) -> np.ndarray:
+    """The log kernel's blocks per element offset on a uniform grid [length], (2 N_e - 1, m, m):
+    ``[o + N_e - 1, a, k]`` = int N_k(s) ln(|x - s| / length_scale) ds for target node a of
+    element e + o and source node k of element e."""
     half = 0.5 * grid.element_length
     coeff = shape_coefficients(grid.order)
     moments = log_moments(_local_coordinates(grid))  # (o, a, power)
     deg = coeff.shape[1]
-    per_offset = half * (
+    return half * (
         np.einsum("oam,km->oak", moments[..., :deg], coeff)
         + np.log(half / length_scale) * shape_integrals(grid.order)[None, None, :]
     )
-    return _toeplitz_gather(grid, per_offset)
+
+
+def sign_offsets(grid: ContactGrid) -> np.ndarray:
+    """The sign kernel's blocks per element offset on a uniform grid [length] (as :func:`log_offsets`)."""
+    half = 0.5 * grid.element_length
+    coeff = shape_coefficients(grid.order)
+    moments = sign_moments(_local_coordinates(grid))
+    deg = coeff.shape[1]
+    return half * np.einsum("oam,km->oak", moments[..., :deg], coeff)
+
+
+def log_matrix(grid: ContactGrid, length_scale: float) -> np.ndarray:
+    """L[i, j] = int N_j(s) ln(|x_i - s| / length_scale) ds [length] (block-Toeplitz path when uniform)."""
+    if not grid.uniform:
+        return graded_log_matrix(grid, length_scale)
+    return _toeplitz_gather(grid, log_offsets(grid, length_scale))
 
 
 def sign_matrix(grid: ContactGrid) -> np.ndarray:
     """Sg[i, j] = int N_j(s) sgn(x_i - s) ds [length] (block-Toeplitz path when uniform)."""
     if not grid.uniform:
         return graded_sign_matrix(grid)
-    half = 0.5 * grid.element_length
-    coeff = shape_coefficients(grid.order)
-    moments = sign_moments(_local_coordinates(grid))
-    deg = coeff.shape[1]
-    per_offset = half * np.einsum("oam,km->oak", moments[..., :deg], coeff)
-    return _toeplitz_gather(grid, per_offset)
+    return _toeplitz_gather(grid, sign_offsets(grid))
 
 
 def _length_scale(grid: ContactGrid) -> float:
@@ -124,13 +137,29 @@ def _length_scale(grid: ContactGrid) -> float:
     return float(np.e * 2.0 * grid.half_width)
 
 
-def body_compliance(grid: ContactGrid, young: float, poisson: float, coupling: bool = True) -> Compliance:
-    """Compliance of one elastic half-plane on the contact grid [length/stress]."""
+#: Uniform grids with at least this many contact nodes get :class:`~rolling_cli.influence.toeplitz.BlockToeplitz`
+#: operators instead of dense matrices, and so the matrix-free Newton solve
+#: (:mod:`rolling_cli.solver.matrix_free`); below it the dense LU is faster (``benchmarks/bench_solve.py``).
+OPERATOR_NODES = 900
+
+
+def use_operators(grid: ContactGrid) -> bool:
+    """True when the compliance of ``grid`` is held as block-Toeplitz operators: a uniform grid of
+    at least :data:`OPERATOR_NODES` nodes (a graded grid has no Toeplitz structure: dense)."""
+    return grid.uniform and grid.size >= OPERATOR_NODES
+
+
+def body_compliance(
+    grid: ContactGrid, young: float, poisson: float, coupling: bool = True, operators: bool | None = None
+) -> Compliance:
+    """Compliance of one elastic half-plane on the contact grid [length/stress] (``operators``: see
+    :func:`pair_compliance`)."""
     return _compliance(
         grid,
         direct=2.0 * materials.plane_strain_compliance(young, poisson) / np.pi,
         cross=materials.coupling_compliance(young, poisson),
         coupling=coupling,
+        operators=operators,
     )
 
 
@@ -141,18 +170,25 @@ def pair_compliance(
     young_b: float,
     poisson_b: float,
     coupling: bool = True,
+    operators: bool | None = None,
 ) -> Compliance:
     """Compliance of the half-plane pair (``young = inf`` for a rigid body) [length/stress].
 
     Direct terms add (2 / (pi E*)); cross terms subtract (Kalker's K/G). With
-    ``coupling=False`` the cross blocks are neither integrated nor stored.
+    ``coupling=False`` the cross blocks are neither integrated nor stored. The
+    blocks are dense arrays, or block-Toeplitz operators with the same entries
+    (``operators=True``; ``None``: :func:`use_operators` decides by size).
     """
     e_star = materials.effective_modulus(young_a, poisson_a, young_b, poisson_b)
     cross = materials.kalker_k_over_g(young_a, poisson_a, young_b, poisson_b)
-    return _compliance(grid, direct=2.0 / (np.pi * e_star), cross=cross, coupling=coupling)
+    return _compliance(grid, direct=2.0 / (np.pi * e_star), cross=cross, coupling=coupling, operators=operators)
 
 
-def _compliance(grid: ContactGrid, direct: float, cross: float, coupling: bool) -> Compliance:
+def _compliance(grid: ContactGrid, direct: float, cross: float, coupling: bool, operators: bool | None) -> Compliance:
+    if operators is None:
+        operators = use_operators(grid)
+    if operators:
+        return _operator_compliance(grid, direct, cross, coupling)
     s_nn = log_matrix(grid, _length_scale(grid))
     s_nn *= direct
     s_nt = s_tn = None
@@ -168,4 +204,23 @@ def _compliance(grid: ContactGrid, direct: float, cross: float, coupling: bool) 
         S_nt=s_nt,
         S_tn=s_tn,
         definite_normal=False,
+    )
+
+
+def _operator_compliance(grid: ContactGrid, direct: float, cross: float, coupling: bool) -> Compliance:
+    """As the dense compliance, the blocks held as block-Toeplitz operators (the same entries, bit for bit)."""
+    from .toeplitz import BlockToeplitz
+
+    if not grid.uniform:
+        raise ValueError("block-Toeplitz operators need a uniform grid")
+    offsets = log_offsets(grid, _length_scale(grid))
+    offsets *= direct
+    s_nn = BlockToeplitz(offsets)
+    s_nt = None
+    if coupling:
+        offsets = sign_offsets(grid)
+        offsets *= cross
+        s_nt = BlockToeplitz(offsets)
+    return Compliance(
+        x=grid.x, weights=grid.weights, S_nn=s_nn, S_tt=-s_nn, S_nt=s_nt, S_tn=s_nt, definite_normal=False
     )

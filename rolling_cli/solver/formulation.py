@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..system import ContactSystem
+from ..system import ContactSystem, abs_row_sum_max
 from .linalg import solve_dense
 
 MODES = ("coupled", "normal", "tangential")
@@ -230,16 +230,16 @@ def _row_sums(system: ContactSystem) -> tuple[float, float, float, float, float]
     if cached is not None and cached[0]() is system:
         return cached[1]
 
-    def row_sum(matrix):
-        return float(np.abs(matrix).sum(axis=1).max()) if matrix is not None else 0.0
+    def row_sum(matrix, rows=None):
+        return abs_row_sum_max(matrix, rows) if matrix is not None else 0.0
 
     rows = np.ones(system.size, dtype=bool)
     rows[system.gauge] = False
     values = (
         row_sum(system.S_nn),
         row_sum(system.S_nt),
-        row_sum(system.B_tt[rows]),
-        row_sum(None if system.B_tn is None else system.B_tn[rows]),
+        row_sum(system.B_tt, rows),
+        row_sum(system.B_tn, rows),
         float(np.abs(system.gap0).max()),
     )
     if len(_ROW_SUMS) > 32:
@@ -414,6 +414,8 @@ class ReducedSystem:
     stress units; rows r_n delta_n = 0 (contact), r_t s_t = 0 (adhesion), the load and
     the tangential force equations divided by the zone length. ``creep_column`` is
     d rhs / d xi when the creepage is held (the sensitivity of the solution to xi).
+    ``matrix`` is dense, or a :class:`~rolling_cli.solver.matrix_free.ReducedOperator`
+    on a matrix-free system.
     """
 
     matrix: np.ndarray
@@ -427,8 +429,17 @@ class ReducedSystem:
 
 
 def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> ReducedSystem:
-    """Assemble the reduced Newton system of the node sets (see :class:`ReducedSystem`)."""
+    """Assemble the reduced Newton system of the node sets (see :class:`ReducedSystem`).
+
+    On a matrix-free system (:attr:`~rolling_cli.system.ContactSystem.matrix_free`) the
+    matrix is an operator, :class:`~rolling_cli.solver.matrix_free.ReducedOperator`, with
+    the same rows; :func:`solve_reduced` solves either.
+    """
     system = problem.system
+    if system.matrix_free:
+        from . import matrix_free
+
+        return matrix_free.reduced_system(problem, state, sets, ev)
     mu = problem.mu
     c_idx, st_idx, sl_idx, sigma = sets.contact, sets.stick, sets.slip, sets.sigma
     r_n, r_t = system.penalty_n, system.penalty_t
@@ -524,10 +535,29 @@ def state_from_solution(problem: Problem, state: State, reduced: ReducedSystem, 
     return new
 
 
+def solve_reduced(reduced: ReducedSystem, rhs: np.ndarray, residual: float | None = None) -> np.ndarray:
+    """The solution z of ``reduced.matrix`` z = ``rhs``.
+
+    A dense matrix: LU (:func:`~rolling_cli.solver.linalg.solve_dense`). A matrix-free
+    system: the preconditioned Krylov solve (:meth:`~rolling_cli.solver.matrix_free.ReducedOperator.solve`)
+    to the accuracy a dense LU reaches or, for a Newton step from an iterate of relative
+    residual ``residual``, to the forcing target of an inexact Newton method
+    (:func:`~rolling_cli.solver.matrix_free.forcing_target`), starting from that iterate.
+    """
+    if isinstance(reduced.matrix, np.ndarray):
+        return solve_dense(reduced.matrix, rhs)
+    if residual is None:
+        return reduced.matrix.solve(rhs)
+    from .matrix_free import forcing_target
+
+    return reduced.matrix.solve(rhs, reduced.matrix.guess, forcing_target(residual))
+
+
 def newton_point(problem: Problem, state: State, ev: Evaluation) -> State:
-    """The Newton point: the exact solution of the linear system of the current node states."""
+    """The Newton point: the solution of the linear system of the current node states (exact, or
+    on a matrix-free system to the forcing target of :func:`solve_reduced`)."""
     reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
-    return state_from_solution(problem, state, reduced, solve_dense(reduced.matrix, reduced.rhs))
+    return state_from_solution(problem, state, reduced, solve_reduced(reduced, reduced.rhs, ev.relative_residual))
 
 
 def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
@@ -541,7 +571,7 @@ def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
         raise ValueError("the creep sensitivity needs a tangential problem with the creepage held")
     sets = node_sets(problem, state, ev)
     reduced = reduced_system(problem, state, sets, ev)
-    dz = solve_dense(reduced.matrix, reduced.creep_column)
+    dz = solve_reduced(reduced, reduced.creep_column)
     nc = sets.contact.size if problem.normal else 0
     ns = sets.stick.size
     w = problem.system.weights
