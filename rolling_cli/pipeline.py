@@ -214,9 +214,9 @@ def build_contact_system_with_origin(
 ) -> tuple[ContactSystem, dict[str, str]]:
     """As :func:`build_contact_system`, plus where each body's influence came from."""
     disc = case.discretization
-    if the_plan.grid.uniform:
+    if the_plan.grid.uniform or the_plan.effects.influence == "bem":  # the BEM keys a graded grid on its edges
         compliance, origin = pair_compliance(case, the_plan, use_cache)
-    else:  # a graded grid (adaptive levels): the half-plane, outside the influence memo
+    else:  # a graded grid (adaptive levels) on the half-plane: outside the influence memo
         compliance, origin = graded.graded_compliance(case, the_plan), {"A": "closed form", "B": "closed form"}
     penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
     system = build_system(
