@@ -445,14 +445,18 @@ class MeshPath:
 
     def refined_levels(self) -> Iterator[float]:
         """The adaptive levels: while :class:`~rolling_cli.adapt.levels.Adaptation` asks for a
-        finer grid, a level on it (graded on the half-plane, uniform on the BEM). A refined level
-        that does not converge ends the loop; the result is then the previous level's."""
+        finer grid, a level on it: the last level's plan on a graded grid (either influence model;
+        on a layer no element longer than :data:`LAYER_ELEMENT_FRACTION` of its thickness). A refined
+        level that does not converge ends the loop; the result is then the previous level's."""
         disc = self.case.discretization
         last = self.points[-1][1]
-        graded = last.plan.effects.influence == "half-plane"
         from .adapt import levels as adaptive
 
-        self.adaptation = adaptive.Adaptation(disc.tolerance, disc.max_refinements, graded, fits=self._fits)
+        layers = [float(b.layer_thickness) for b in (self.case.bodies.A, self.case.bodies.B) if b.kind == "layered"]
+        largest = LAYER_ELEMENT_FRACTION * min(layers) if layers else None
+        bem = last.plan.effects.influence == "bem"
+        most = adaptive.MAX_BEM_ELEMENTS if bem else adaptive.MAX_ELEMENTS
+        self.adaptation = adaptive.Adaptation(disc.tolerance, disc.max_refinements, largest, most, fits=self._fits)
         while True:
             last = self.points[-1][1]
             if last.failure is not None:
@@ -469,12 +473,7 @@ class MeshPath:
             for number, level in self.levels.items():  # only the last level is still needed
                 if level is not last and number > 0:
                     level.system = level.solution = None
-            if graded:
-                level = Level("refined mesh", last.case, dataclasses.replace(last.plan, grid=grid))
-            else:  # the BEM: a uniform grid, whose case names its element count (the influence's cache key)
-                refined = _with_elements(last.case, grid.elements)
-                level = Level("refined mesh", refined, plan(refined, half_width=last.plan.half_width))
-            yield self._announce(level)
+            yield self._announce(Level("refined mesh", last.case, dataclasses.replace(last.plan, grid=grid)))
 
     def _fields(self, level: Level) -> adaptive.LevelFields:
         """The nodal fields of a solved level that the adaptive decision and transfer use."""
