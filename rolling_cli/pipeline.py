@@ -571,7 +571,7 @@ class MeshPath:
     def _system(self, level: Level) -> ContactSystem:
         if level.system is None:
             if level.kind == "refined mesh" and level.plan.grid.uniform:
-                clear_memo()  # uniform BEM levels: keep no earlier level's influence in memory (disk cache)
+                clear_memo()  # a refined level that came out uniform: keep no earlier level's influence in memory
             t0 = time.perf_counter()
             level.system, level.origin = build_contact_system_with_origin(level.case, level.plan, self.use_cache)
             self.timings["influence"] += time.perf_counter() - t0
