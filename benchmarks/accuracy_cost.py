@@ -24,7 +24,7 @@ issue #10 (the finite block, bottom fixed and sides free, W = D = 100 a) and
 after (the half-space with the far-field truncation).
 
 **Accuracy on demand** (issue #13): the adaptive mode (``[discretization]
-tolerance``: graded meshes on the half-plane, uniform refinement on the BEM)
+tolerance``: graded meshes on the half-plane and on the BEM)
 against the uniform default route (``influence = "auto"``, fd), both timed as
 WHOLE processes (``rollc -q solve CASE --no-cache`` in a subprocess, fastest
 of 3; start-up included), with the table "tolerance requested -> error
@@ -254,7 +254,7 @@ def main() -> None:
     print(f"written {OUT / 'accuracy_cost.md'} and {OUT / 'accuracy_cost.png'}")
 
 
-#: Tolerances of the adaptive runs; the BEM (tyred) refines uniformly, which reaches only loose ones.
+#: Tolerances of the adaptive runs (graded levels on both models; benchmarks/graded_bem.py for the tyred case).
 TOLERANCES = {
     "Carter": [1e-2, 3e-3, 1e-3, 3e-4, 1e-4],
     "dissimilar": [1e-2, 3e-3, 1e-3, 3e-4],
@@ -497,8 +497,8 @@ def write_adaptive_markdown(whole: list[dict], startup: float) -> None:
         f"default BLAS threads), so Python's start-up and the imports are in: about {startup:.2f} s here "
         "(the imports a solve needs, measured alone). In process: the solve alone (`time_total_solve`). "
         "Adaptive: `[discretization] tolerance` from the case's own mesh (Carter and dissimilar: 200 "
-        "elements, graded half-plane levels; tyred: 100 elements, uniform BEM levels, as the BEM takes no "
-        'graded grid yet). Uniform: the default route (`influence = "auto"`, fd) at N elements. Errors '
+        "elements, graded half-plane levels; tyred: 100 elements, graded BEM levels). "
+        'Uniform: the default route (`influence = "auto"`, fd) at N elements. Errors '
         "against the references above (dissimilar: the adaptive run at 1e-4, whose own estimate bounds "
         "what it can resolve; tyred: the 640-element BEM run, so errors near its own, ~1e-3, are not "
         "resolved).",

@@ -214,9 +214,9 @@ def build_contact_system_with_origin(
 ) -> tuple[ContactSystem, dict[str, str]]:
     """As :func:`build_contact_system`, plus where each body's influence came from."""
     disc = case.discretization
-    if the_plan.grid.uniform:
+    if the_plan.grid.uniform or the_plan.effects.influence == "bem":  # the BEM keys a graded grid on its edges
         compliance, origin = pair_compliance(case, the_plan, use_cache)
-    else:  # a graded grid (adaptive levels): the half-plane, outside the influence memo
+    else:  # a graded grid (adaptive levels) on the half-plane: outside the influence memo
         compliance, origin = graded.graded_compliance(case, the_plan), {"A": "closed form", "B": "closed form"}
     penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
     system = build_system(
@@ -445,14 +445,18 @@ class MeshPath:
 
     def refined_levels(self) -> Iterator[float]:
         """The adaptive levels: while :class:`~rolling_cli.adapt.levels.Adaptation` asks for a
-        finer grid, a level on it (graded on the half-plane, uniform on the BEM). A refined level
-        that does not converge ends the loop; the result is then the previous level's."""
+        finer grid, a level on it: the last level's plan on a graded grid (either influence model;
+        on a layer no element longer than :data:`LAYER_ELEMENT_FRACTION` of its thickness). A refined
+        level that does not converge ends the loop; the result is then the previous level's."""
         disc = self.case.discretization
         last = self.points[-1][1]
-        graded = last.plan.effects.influence == "half-plane"
         from .adapt import levels as adaptive
 
-        self.adaptation = adaptive.Adaptation(disc.tolerance, disc.max_refinements, graded, fits=self._fits)
+        layers = [float(b.layer_thickness) for b in (self.case.bodies.A, self.case.bodies.B) if b.kind == "layered"]
+        largest = LAYER_ELEMENT_FRACTION * min(layers) if layers else None
+        bem = last.plan.effects.influence == "bem"
+        most = adaptive.MAX_BEM_ELEMENTS if bem else adaptive.MAX_ELEMENTS
+        self.adaptation = adaptive.Adaptation(disc.tolerance, disc.max_refinements, largest, most, fits=self._fits)
         while True:
             last = self.points[-1][1]
             if last.failure is not None:
@@ -469,12 +473,7 @@ class MeshPath:
             for number, level in self.levels.items():  # only the last level is still needed
                 if level is not last and number > 0:
                     level.system = level.solution = None
-            if graded:
-                level = Level("refined mesh", last.case, dataclasses.replace(last.plan, grid=grid))
-            else:  # the BEM: a uniform grid, whose case names its element count (the influence's cache key)
-                refined = _with_elements(last.case, grid.elements)
-                level = Level("refined mesh", refined, plan(refined, half_width=last.plan.half_width))
-            yield self._announce(level)
+            yield self._announce(Level("refined mesh", last.case, dataclasses.replace(last.plan, grid=grid)))
 
     def _fields(self, level: Level) -> adaptive.LevelFields:
         """The nodal fields of a solved level that the adaptive decision and transfer use."""
@@ -572,7 +571,7 @@ class MeshPath:
     def _system(self, level: Level) -> ContactSystem:
         if level.system is None:
             if level.kind == "refined mesh" and level.plan.grid.uniform:
-                clear_memo()  # uniform BEM levels: keep no earlier level's influence in memory (disk cache)
+                clear_memo()  # a refined level that came out uniform: keep no earlier level's influence in memory
             t0 = time.perf_counter()
             level.system, level.origin = build_contact_system_with_origin(level.case, level.plan, self.use_cache)
             self.timings["influence"] += time.perf_counter() - t0

@@ -124,11 +124,13 @@ def test_graded_dissimilar_solve_keeps_contact_laws_and_forces():
 
 def test_explicit_grid_keeps_the_case_reference():
     """solve_on_grid changes nothing but the mesh: the loads and the Hertz scale are the case's.
-    A graded grid with the BEM is refused (its influence cache is keyed on uniform grids)."""
+    The BEM takes the graded grid too (its influence keyed on the edges): its nodes and weights are
+    the grid's and the case's load is carried."""
     case = rolling_cli.load_case(CARTER)
     grid = graded_grid(ContactGrid(1.5, 10, 2), [-1.0, 1.0], 0.01, 0.1)
     r = solve_on_grid(case, grid)
     assert r.normal_load == pytest.approx(1812.5, rel=1e-10)
     assert r.x.size == grid.size and np.array_equal(r.weights, grid.weights)
-    with pytest.raises(ValueError, match="half-plane"):
-        solve_on_grid(rolling_cli.load_case(case_dict(**{"discretization.influence": "bem"})), grid)
+    bem = solve_on_grid(rolling_cli.load_case(case_dict(**{"discretization.influence": "bem"})), grid)
+    assert bem.converged and np.array_equal(bem.x, grid.x) and np.array_equal(bem.weights, grid.weights)
+    assert bem.normal_load == pytest.approx(1812.5, rel=1e-10)

@@ -23,12 +23,10 @@ from ..system import ContactSystem
 def system_on_grid(case: Case, grid: ContactGrid, use_cache: bool = True) -> ContactSystem:
     """The case's contact system with its contact grid replaced by ``grid`` (same zone).
 
-    Graded grids need the half-plane model (ValueError otherwise): the BEM influence
-    is memoised and cached on the zone's width and element count, not on its edges,
-    so a graded grid would silently get a uniform grid's influence. A graded grid's
-    half-plane influence is built outside the in-process memo, which would otherwise
-    keep the dense matrices of every level of an adaptive run
-    (:func:`rolling_cli.adapt.graded.graded_compliance`).
+    A graded grid's influence is built outside the in-process memo, which would otherwise
+    keep the dense matrices of every level of an adaptive run: the half-plane's by
+    :func:`rolling_cli.adapt.graded.graded_compliance`, a BEM body's keyed on the grid's
+    edges in the disk cache (:func:`rolling_cli.influence.build.bem_inputs`).
     """
     the_plan = dataclasses.replace(measured_plan(case, use_cache), grid=grid)
     return build_contact_system(case, the_plan, use_cache)

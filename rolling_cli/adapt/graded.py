@@ -12,11 +12,12 @@ def graded_compliance(case, the_plan):
     [length/stress], built outside the in-process influence memo (which would keep every
     level's dense matrices).
 
-    Raises ValueError when the plan's model is not the half-plane: the BEM takes no graded grid.
+    Raises ValueError when the plan's model is not the half-plane: a BEM body on a graded grid is
+    built by :func:`rolling_cli.influence.build.pair_compliance` (keyed on the grid's edges).
     """
     effects = the_plan.effects
     if effects.influence != "half-plane":
-        raise ValueError("graded contact grids need the half-plane influence model (the BEM takes none yet)")
+        raise ValueError("graded_compliance builds the half-plane model; the BEM's goes through influence.build")
     a, b = case.bodies.A, case.bodies.B
     return halfplane.pair_compliance(the_plan.grid, a.modulus, a.ratio, b.modulus, b.ratio, effects.coupling)
 

@@ -14,15 +14,15 @@ time, from the last solved one:
    the estimate reached: after ``discretization.max_refinements``
    refinements; when the estimate stops falling (:data:`STALL`: the request
    lies below what the model resolves, the smallest elements at their
-   round-off floor); when the next mesh would exceed :data:`MAX_ELEMENTS`
-   or the memory available; on the BEM, when the uniform mesh the estimate
-   asks for exceeds :data:`MAX_UNIFORM_ELEMENTS`;
-3. **the next grid**: on the half-plane model a grid graded towards the
-   located kinks (contact edges, stick/slip boundaries) with the indicator's
-   element-length field elsewhere, elements far below the target allowed to
-   grow (:func:`.remesh.next_grid`); on the BEM, whose contact grid must be
-   uniform (its mesh and influence cache assume equal contact elements), a
-   uniform grid with more elements (:func:`next_uniform_elements`);
+   round-off floor); when the next mesh would exceed :attr:`Adaptation.max_elements`
+   (:data:`MAX_ELEMENTS`, on the BEM :data:`MAX_BEM_ELEMENTS`) or the memory
+   available;
+3. **the next grid**, on either influence model (the half-plane's closed form
+   or the BEM, whose body meshes take the graded contact elements): a grid
+   graded towards the located kinks (contact edges, stick/slip boundaries)
+   with the indicator's element-length field elsewhere, elements far below
+   the target allowed to grow (:func:`.remesh.next_grid`), none longer than
+   :attr:`Adaptation.largest` (a layer's rule: at most half its thickness);
 4. **the start** of the new level: the last solution moved onto the new grid
    (:func:`transferred_state`), or the closed-form (Hertz, Carter) start
    when that has the smaller residual (the pipeline compares the two).
@@ -60,30 +60,11 @@ MAX_ELEMENTS = 4000
 #: default 200 elements, then does not stay fine where the traction is smooth).
 COARSEN = 2.0
 FEWEST_ELEMENTS = 20
-#: Uniform refinement (BEM): growth of the element count per level, at least and at most. The
-#: maximum error of a uniform mesh falls only like N^(-1/2) (square-root kinks), so the count the
-#: estimate asks for, N (eta / target)^2, is usually far beyond one doubling.
-UNIFORM_GROWTH = (1.25, 2.0)
-#: Most contact elements of a uniform (BEM) level: the BEM build of 1280 contact elements takes
-#: about a minute on 2 cores (640: 12 s, growing like N^2.5; benchmarks/results/accuracy_cost.md).
-MAX_UNIFORM_ELEMENTS = 1280
+#: Most contact elements of a BEM level: the BEM build of 1280 contact elements takes about a
+#: minute on 2 cores (640: 12 s, growing like N^2.5; benchmarks/results/accuracy_cost.md).
+MAX_BEM_ELEMENTS = 1280
 
-GRADED = "graded towards the kinks (half-plane)"
-UNIFORM = "uniform refinement (BEM: graded contact grids are not available for the BEM yet)"
-
-
-def uniform_elements(elements: int, estimate: float, tolerance: float, safety: float = SAFETY) -> int:
-    """Element count of a uniform mesh whose estimate would meet ``safety`` times the tolerance,
-    N (estimate / (safety tolerance))^2: the maximum error of a uniform mesh falls like N^(-1/2)."""
-    return int(math.ceil(elements * (estimate / (safety * tolerance)) ** 2))
-
-
-def next_uniform_elements(elements: int, estimate: float, tolerance: float) -> int:
-    """Element count of the next uniform level: :func:`uniform_elements`, its growth over
-    ``elements`` bounded by :data:`UNIFORM_GROWTH`."""
-    low, high = UNIFORM_GROWTH
-    wanted = uniform_elements(elements, estimate, tolerance)
-    return max(elements + 1, min(wanted, int(math.ceil(high * elements)), max(wanted, int(math.ceil(low * elements)))))
+GRADED = "graded towards the kinks"
 
 
 @dataclass
@@ -91,14 +72,17 @@ class Adaptation:
     """The progress of one adaptive solve: the request, every level's estimate, and why it stopped.
 
     ``tolerance`` [-] (a fraction of mu p0, of p0 when frictionless),
-    ``max_refinements``, ``graded`` (half-plane: graded grids; else uniform
-    refinement), ``fits(elements) -> str`` says why a level of that many
-    elements cannot be solved ("" when it can: the memory check).
+    ``max_refinements``, ``largest`` the longest contact element allowed
+    [length] (a layer's rule; None: no rule beyond the zone over
+    :data:`FEWEST_ELEMENTS`), ``max_elements`` the most contact elements of a
+    level, ``fits(elements) -> str`` says why a level of that many elements
+    cannot be solved ("" when it can: the memory check).
     """
 
     tolerance: float
     max_refinements: int
-    graded: bool
+    largest: float | None = None
+    max_elements: int = MAX_ELEMENTS
     fits: object = None
     history: list[dict] = field(default_factory=list)
     note: str = ""
@@ -142,11 +126,11 @@ class Adaptation:
                 f"(discretization.max_refinements = {self.max_refinements})"
             )
             return None
-        new = self._graded(level, found) if self.graded else self._uniform(level.grid, estimate)
+        new = self._graded(level, found)
         if new is None:
             self.note = f"tolerance {self.tolerance:g} not met: {reached}; {self.note}"
             return None
-        refused = f"more than the {MAX_ELEMENTS} allowed" if new.elements > MAX_ELEMENTS else ""
+        refused = f"more than the {self.max_elements} allowed" if new.elements > self.max_elements else ""
         if not refused and self.fits is not None:
             refused = self.fits(new.elements)
         if refused:
@@ -168,6 +152,8 @@ class Adaptation:
             )
             return None
         largest = 2.0 * level.grid.half_width / FEWEST_ELEMENTS
+        if self.largest is not None:
+            largest = min(largest, self.largest)
         return remesh.next_grid(
             level.grid,
             found.eta,
@@ -178,21 +164,6 @@ class Adaptation:
             coarsen=COARSEN,
             largest=largest,
         )
-
-    def _uniform(self, grid: ContactGrid, estimate: float) -> ContactGrid | None:
-        """The next uniform grid, or None (and a reason) when the uniform mesh the estimate asks for
-        exceeds :data:`MAX_UNIFORM_ELEMENTS` (its maximum error falls only like N^(-1/2))."""
-        needed = uniform_elements(grid.elements, estimate, self.tolerance, safety=1.0)
-        if needed > MAX_UNIFORM_ELEMENTS:
-            self.note = (
-                f"a uniform mesh would need about {needed} contact elements (its maximum error falls like "
-                f"N^(-1/2)), more than the {MAX_UNIFORM_ELEMENTS} allowed for uniform refinement; the BEM "
-                "takes no graded contact grid yet (the half-plane model's graded meshes reach such "
-                "tolerances where it applies)"
-            )
-            return None
-        elements = min(next_uniform_elements(grid.elements, estimate, self.tolerance), MAX_UNIFORM_ELEMENTS)
-        return ContactGrid(grid.half_width, elements, grid.order, grid.centre)
 
     def stalled(self) -> bool:
         """The estimate has not fallen below :data:`STALL` times the best earlier one for
@@ -212,7 +183,7 @@ class Adaptation:
             "adaptive_estimate": self.estimate,
             "adaptive_met": self.met,
             "adaptive_refinements": self.refinements,
-            "adaptive_method": GRADED if self.graded else UNIFORM,
+            "adaptive_method": GRADED,
             "adaptive_note": self.note,
             "adaptive_creep_change": change,
             "adaptive_history": json.dumps(self.history),
@@ -236,6 +207,7 @@ def summary_line(attrs: dict) -> str | None:
     if "adaptive_tolerance" not in attrs:
         return None
     status = "met" if attrs.get("adaptive_met") else "NOT met"
+    # files written before the BEM took graded grids may say "uniform refinement"
     method = "graded" if str(attrs.get("adaptive_method", "")).startswith("graded") else "uniform refinement"
     return (
         f"  accuracy       tolerance {attrs['adaptive_tolerance']:g} {status}: estimate "

@@ -70,7 +70,7 @@ def bem_inputs(case, the_plan, body) -> dict:
             "half_width": disc.block_width * the_plan.half_width,
             "depth": disc.block_depth * the_plan.half_width,
         }
-    return {
+    inputs = {
         "kind": body.kind,
         "young": float(body.young),
         "poisson": float(body.poisson),
@@ -78,14 +78,29 @@ def bem_inputs(case, the_plan, body) -> dict:
         "elements": grid.elements,
         **geometry,
     }
+    if not grid.uniform:  # a graded grid (adaptive levels): keyed on its edges; uniform keys unchanged
+        inputs["element_edges"] = tuple(float(e) for e in grid.edges)
+    return inputs
+
+
+def contact_grid(inputs: dict) -> ContactGrid:
+    """The contact grid of BEM ``inputs`` (:func:`bem_inputs`): uniform, or graded on its ``element_edges``."""
+    if "element_edges" in inputs:
+        return ContactGrid.graded(inputs["element_edges"], 2)
+    return ContactGrid(inputs["zone_half_width"], inputs["elements"], 2)
 
 
 def _bem_body(inputs: dict, use_cache: bool) -> tuple[Compliance, str]:
+    """A BEM body's compliance: from the in-process memo, the disk cache or computed. A graded
+    grid's (an adaptive level, keyed on its edges) skips the memo, which would keep every level's
+    dense matrices, but uses the disk cache (a re-run meets the same levels)."""
+    from . import cache  # the disk cache only for BEM bodies (start-up)
+
+    if "element_edges" in inputs:
+        return cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
     frozen = tuple(sorted(inputs.items()))
     if frozen in _memo:
         return _memo[frozen], "reused in-process"
-    from . import cache  # the disk cache only for BEM bodies (start-up)
-
     found, origin = cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
     _memo[frozen] = found
     if len(_memo) > 8:
@@ -106,7 +121,7 @@ def clear_memo() -> None:
 def _mesh(inputs: dict) -> tuple[bem.BoundaryMesh, ContactGrid]:
     from . import bem
 
-    grid = ContactGrid(inputs["zone_half_width"], inputs["elements"], 2)
+    grid = contact_grid(inputs)
     layer = inputs["kind"] == "layered"
     largest = inputs["depth"] if layer else None
     mesh = bem.body_mesh(grid, inputs["half_width"], inputs["depth"], largest=largest, far_field=not layer)

@@ -146,7 +146,10 @@ def _check_shapes(arrays: dict[str, np.ndarray], inputs: dict) -> None:
     if "zone_half_width" in inputs and "elements" in inputs:
         from ..grid import ContactGrid
 
-        grid = ContactGrid(inputs["zone_half_width"], inputs["elements"], 2)
+        if "element_edges" in inputs:  # a graded grid's entry
+            grid = ContactGrid.graded(inputs["element_edges"], 2)
+        else:
+            grid = ContactGrid(inputs["zone_half_width"], inputs["elements"], 2)
         if n != grid.size or not np.array_equal(x, grid.x):
             raise InvalidEntry(f"{n} nodes that are not the {grid.size} contact nodes of its key")
 

@@ -44,10 +44,11 @@ def body_mesh(
 
     ``far_field=True``: a half-space truncated there (far-field displacement on
     the sides and the bottom); otherwise a layer (fixed bottom, free ends).
+    A graded grid's contact elements keep its edges (:func:`.mesh.rectangle`).
     """
     if grid.order != 2:
         raise ValueError("the BEM model uses the quadratic contact elements")
-    return rectangle(half_width, depth, grid.edges, largest=largest, far_field=far_field)
+    return rectangle(half_width, depth, grid.edges, largest=largest, far_field=far_field, graded=not grid.uniform)
 
 
 def _systems(mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, far_values, mirror: bool):

@@ -8,7 +8,7 @@ is fixed (u = 0, bonded to the rigid core) and its ends are traction-free. A
 half-space's sides and bottom are its truncation boundary (``far``): their
 displacement is prescribed from the far field of the half-space (see
 :mod:`.farfield`). The contact zone is meshed with the contact grid's
-uniform discontinuous elements; the rest of the top face with continuous
+(uniform or graded) discontinuous elements; the rest of the top face with continuous
 elements graded away from it; the sides and the bottom with continuous
 elements, partially discontinuous at the corners and where a continuous
 element meets a discontinuous one, so that every collocation point lies on a
@@ -149,12 +149,17 @@ def rectangle(
     largest: float | None = None,
     kind: str = "mixed",
     far_field: bool = False,
+    graded: bool = False,
 ) -> BoundaryMesh:
     """The rectangular body [-W, W] x [-D, 0] with contact elements ``zone_edges`` on top.
 
     ``zone_edges`` are the contact grid's element edges (increasing x, inside
-    (-W, W)). Away from the zone, elements grow by ``growth`` per element from
-    the contact element size up to ``largest`` (default: min(D, W) / 4).
+    (-W, W)): equal ones, or with ``graded`` any increasing ones (each contact
+    element keeps its nodes at -2/3, 0, 2/3 of its own half-length, so the
+    contact nodes are the graded grid's). Away from the zone, elements grow by
+    ``growth`` per element from the adjacent contact element's length (the
+    first element's when not ``graded``; under the zone the bottom starts from
+    the longest) up to ``largest`` (default: min(D, W) / 4).
     ``kind``: "mixed" (discontinuous contact elements, continuous elsewhere),
     "discontinuous" or "continuous" (contact zone too) everywhere; the last two
     exist for patch tests of each element kind. ``far_field``: the sides and
@@ -166,6 +171,10 @@ def rectangle(
     all_disc = kind == "discontinuous"
     zone_edges = np.asarray(zone_edges, dtype=float)
     h = float(zone_edges[1] - zone_edges[0])
+    h_lo, h_hi, h_big = h, h, h  # equal elements: the first one's length, bit for bit as ever
+    if graded:  # the graded beyond the zone start from the end elements' lengths; the bottom from the longest
+        h_hi = float(zone_edges[-1] - zone_edges[-2])
+        h_big = float(np.diff(zone_edges).max())
     c_lo, c_hi = float(zone_edges[0]), float(zone_edges[-1])
     if not (-half_width < c_lo and c_hi < half_width):
         raise ValueError("the contact zone must lie inside the top face")
@@ -176,17 +185,17 @@ def rectangle(
         return np.column_stack([xs, ys])
 
     # bottom, from (-W, -D) to (W, -D): fine under the zone, graded outwards
-    right = graded_edges(0.0, half_width, min(big, max(h, depth / 8.0)), growth, big)
+    right = graded_edges(0.0, half_width, min(big, max(h_big, depth / 8.0)), growth, big)
     bottom_x = np.concatenate([-right[::-1], right[1:]])
     b.segment(line(bottom_x, np.full(bottom_x.size, -depth)), fixed=True, discontinuous=all_disc)
     on_bottom = len(b.nodes)
     # right side, from (W, -D) up to (W, 0): fine at the top corner
-    top_corner = graded_edges(c_hi, half_width, h, growth, big)
+    top_corner = graded_edges(c_hi, half_width, h_hi, growth, big)
     corner_size = float(top_corner[-1] - top_corner[-2])
     side = graded_edges(0.0, -depth, corner_size, growth, big)[::-1]
     right_side = b.segment(line(np.full(side.size, half_width), side), fixed=far_field, discontinuous=all_disc)
     # top face, from (W, 0) to (-W, 0): graded, contact zone, graded
-    left = graded_edges(c_lo, -half_width, h, growth, big)
+    left = graded_edges(c_lo, -half_width, h_lo, growth, big)
     if kind == "continuous":  # one continuous segment across the whole top face
         top = np.concatenate([top_corner[::-1], zone_edges[::-1][1:-1], left])
         new = b.segment(line(top, np.zeros(top.size)), fixed=False)
