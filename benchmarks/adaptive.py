@@ -1,6 +1,6 @@
 """Accuracy on demand (issue #13): the adaptive mesh levels of ``rolling_cli.solve`` against references.
 
-Half-plane model throughout (the BEM refines uniformly: benchmarks/accuracy_cost.py).
+Half-plane model throughout (the BEM's graded levels: benchmarks/graded_bem.py and accuracy_cost.py).
 
 1. **Graded meshes with an element edge on each exact kink** (Carter, Q/(mu P) =
    0.51): elements growing by 1.4 up to 0.05 a, smallest 1e-2 .. 1e-6 a, both
