@@ -88,21 +88,22 @@ BEM_BLOCK_TEMPORARIES = 2.6
 #: Element growth of the BEM mesh away from the zone (``influence.bem.mesh.rectangle``).
 BEM_GROWTH = 1.4
 
-#: Doubles per gathered entry while the Krylov preconditioner's band is assembled (index and
-#: value temporaries of ``solver.near_field._band``). With KRYLOV_VECTORS and KRYLOV_IMPORTS
-#: fitted to the traced peaks of 3,000-10,000 nodes (model / traced 0.9-1.2, Carter and the
-#: dissimilar case); at 1,200 nodes the fixed import term makes the model up to 1.7x the traced
-#: peak (it bounds the resident set, which the imports do grow).
-KRYLOV_CHUNK_TEMPORARIES = 4.0
+#: Doubles per unknown while the Krylov preconditioner's band is assembled (the per-position
+#: arrays and one diagonal's temporaries of ``solver.near_field._band``). With KRYLOV_VECTORS and
+#: KRYLOV_IMPORTS fitted to the traced peaks of 3,000-10,000 nodes (model / traced 0.9-1.2, Carter
+#: and the dissimilar case); at 1,200 nodes the fixed import term makes the model up to 1.7x the
+#: traced peak (it bounds the resident set, which the imports do grow).
+KRYLOV_ASSEMBLY_TEMPORARIES = 20.0
 
 #: Doubles per contact node of the matrix-free Newton's vectors (transforms of the tractions,
 #: node states, evaluations, history): measured.
 KRYLOV_VECTORS = 100.0
 
 #: The modules the matrix-free path imports when it first runs (scipy.fft, the LAPACK band
-#: routines) and their plan caches, in doubles (6 MB): measured as the growth of the resident
-#: set at 1,200 - 3,000 nodes, where it is most of it.
-KRYLOV_IMPORTS = 6.0e6 / 8
+#: routines) and their plan caches, in doubles (3 MB): fitted with KRYLOV_VECTORS to the traced
+#: peaks (the resident set grew by ~6 MB at 1,200 - 3,000 nodes, where it is most of it; refitted
+#: on 2026-11-22 when the band assembly lost its gathered chunks and the traced peaks fell by a third).
+KRYLOV_IMPORTS = 3.0e6 / 8
 
 _DOUBLE = 8
 
@@ -301,11 +302,11 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     (transforms, node states, evaluations), the modules the path imports on first use
     (:data:`KRYLOV_IMPORTS`) and the largest of three phases of each step, with
     B = (3 h + 1) per unknown the preconditioner's band in LAPACK storage (h = (W + 1) per
-    node - 1, W = NEAR_FIELD, per node 2 coupled): its assembly (B and the gathered chunk's
-    temporaries), its single-precision factorisation (1.5 B: the double band and its float32
+    node - 1, W = NEAR_FIELD, per node 2 coupled): its assembly (B and the assembly's
+    temporaries, per unknown), its single-precision factorisation (1.5 B: the double band and its float32
     copy) and GMRES (B / 2, the Arnoldi basis and the preconditioned directions, 2 restart + 1
     per unknown)."""
-    from .solver import krylov, matrix_free, near_field
+    from .solver import krylov, matrix_free
 
     contact = n / zone
     per_node = 2 if coupled else 1
@@ -313,7 +314,7 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     half = per_node * (matrix_free.NEAR_FIELD + 1) - 1
     band = (3 * half + 1) * size
     restart = krylov.RESTART
-    chunk = KRYLOV_CHUNK_TEMPORARIES * min(near_field.CHUNK, (2 * half + 1) * size)
+    chunk = KRYLOV_ASSEMBLY_TEMPORARIES * size
     phases = (band + chunk, 1.5 * band, 0.5 * band + (2 * restart + 1) * size)
     doubles = max(phases) + KRYLOV_VECTORS * n + KRYLOV_IMPORTS
     iterations = 50  # Krylov iterations per Newton step, a rough mean (benchmarks/bench_solve.py)

@@ -17,7 +17,7 @@ from rolling_cli import pipeline
 from rolling_cli.case import load_case
 from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import build, halfplane
-from rolling_cli.solver import formulation, krylov, matrix_free
+from rolling_cli.solver import formulation, krylov, matrix_free, near_field
 from rolling_cli.solver.banded import BorderedBandLU, SparseLU
 from rolling_cli.solver.formulation import State
 from rolling_cli.system import build_system
@@ -151,6 +151,18 @@ def test_reduced_operator_is_the_dense_reduced_system(data, mode):
         assert np.array_equal(fast.creep_column, dense.creep_column)
     # the dense fallback (E D A assembled from the exact entries): the LU's solution, to 1e-9 as above
     assert np.max(np.abs(op.solve_dense(fast.rhs) - exact)) <= 1e-9 * np.max(np.abs(exact))
+
+
+@pytest.mark.parametrize("data,mode", MODES)
+def test_band_assembly_is_the_entries(data, mode):
+    """The preconditioner's band, assembled diagonal by diagonal from slices, holds exactly the
+    operator's entries (:meth:`ReducedOperator.entries`: tested against the dense matrix above)."""
+    _, fast = _reduced_pair(data, mode)
+    op = fast.matrix
+    order, per_node = near_field.band_order(op)
+    for width in (2, matrix_free.NEAR_FIELD):
+        half = min(per_node * width + per_node - 1, order.size - 1)
+        assert np.array_equal(near_field._band(op, order, half), near_field._band_from_entries(op, order, half))
 
 
 def test_a_stalled_krylov_solve_falls_back_to_dense_lu(monkeypatch):

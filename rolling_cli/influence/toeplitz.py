@@ -232,10 +232,12 @@ def products(sums: list[list[tuple[BlockToeplitz, np.ndarray]]]) -> list[np.ndar
     """For each list of terms (M_k, p_k), sum_k M_k @ p_k; the M_k all of one grid.
 
     Each distinct vector p_k (by identity) is transformed once for all the sums,
-    each sum takes one inverse transform (node components first, frequencies last:
-    contiguous transforms); the explicit rows are then recomputed exactly from
-    their row values and the other terms' entries in those rows. Returns (n,) or
-    (n, k) arrays like the p_k.
+    and the products are summed in the frequency domain: one forward transform
+    of all the distinct operands together and one inverse transform of all the
+    sums together when the operands have one shape (node components first,
+    frequencies last: contiguous transforms); the explicit rows are then
+    recomputed exactly from their row values and the other terms' entries in
+    those rows. Returns (n,) or (n, k) arrays like the p_k.
     """
     from scipy.fft import irfft, rfft
 
@@ -243,42 +245,62 @@ def products(sums: list[list[tuple[BlockToeplitz, np.ndarray]]]) -> list[np.ndar
     ne, m = first.elements, first.block_size
     n = first.shape[0]
     length = first.transform_length
-    transformed: dict[int, np.ndarray] = {}
-    arrays: dict[int, np.ndarray] = {}
-    results = []
+    slots: dict[int, int] = {}  # the operands stay alive in ``sums``: their ids are distinct
+    arrays: list[np.ndarray] = []
     for terms in sums:
-        total = None
-        explicit = []
         for op, operand in terms:
             if op.shape != first.shape or op.block_size != m:
                 raise ValueError("block-Toeplitz products of different grids")
-            key = id(operand)  # the operands stay alive in ``sums``: their ids are distinct
-            if key not in transformed:
+            if id(operand) not in slots:
                 p = np.asarray(operand, dtype=float)
                 if p.shape[0] != n:
                     raise ValueError(f"operand has {p.shape[0]} rows, the operator {n} columns")
-                arrays[key] = p
-                components = np.ascontiguousarray(np.moveaxis(p.reshape((ne, m) + p.shape[1:]), 0, -1))
-                transformed[key] = rfft(components, n=length, axis=-1)  # (m, ..., frequencies)
-            total = _accumulate(total, op.spectrum(), transformed[key])
-            if op.rows.size:
-                explicit.append(op.rows)
-        out = irfft(total, n=length, axis=-1)[..., ne - 1 : 2 * ne - 1]
+                slots[id(operand)] = len(arrays)
+                arrays.append(p)
+    transformed = _forward(arrays, ne, m, length, rfft)
+    totals = []
+    for terms in sums:
+        total = None
+        for op, operand in terms:
+            total = _accumulate(total, op.spectrum(), transformed[slots[id(operand)]])
+        totals.append(total)
+    if len({t.shape for t in totals}) == 1:
+        found = list(irfft(np.stack(totals), n=length, axis=-1)[..., ne - 1 : 2 * ne - 1])
+    else:
+        found = [irfft(t, n=length, axis=-1)[..., ne - 1 : 2 * ne - 1] for t in totals]
+    results = []
+    for terms, out in zip(sums, found, strict=True):
         out = np.moveaxis(out, -1, 0)  # (ne, m, ...)
         out = np.ascontiguousarray(out).reshape((n,) + out.shape[2:])
+        explicit = [op.rows for op, _ in terms if op.rows.size]
         if explicit:
             rows = np.unique(np.concatenate(explicit))
-            out[rows] = sum(op.row_block(rows) @ arrays[id(operand)] for op, operand in terms)
+            out[rows] = sum(op.row_block(rows) @ arrays[slots[id(operand)]] for op, operand in terms)
         results.append(out)
     return results
+
+
+def _forward(arrays: list[np.ndarray], ne: int, m: int, length: int, rfft) -> list[np.ndarray]:
+    """Real FFTs of the operands over the elements, each (m, ..., frequencies): one call when
+    they have one shape."""
+
+    def components(p: np.ndarray) -> np.ndarray:  # (n, ...) -> (m, ..., ne)
+        return np.moveaxis(p.reshape((ne, m) + p.shape[1:]), 0, -1)
+
+    if len({p.shape for p in arrays}) == 1:
+        stacked = np.ascontiguousarray(np.stack([components(p) for p in arrays]))
+        return list(rfft(stacked, n=length, axis=-1))
+    return [rfft(np.ascontiguousarray(components(p)), n=length, axis=-1) for p in arrays]
 
 
 def _accumulate(total: np.ndarray | None, spectrum: np.ndarray, transformed: np.ndarray) -> np.ndarray:
     """total[a] += sum_k spectrum[a, k] P[k] for P = ``transformed`` (m, ..., frequencies)."""
     m, frequencies = spectrum.shape[0], spectrum.shape[-1]
     flat = transformed.reshape(m, -1, frequencies)
-    term = (spectrum[:, :, None, :] * flat[None]).sum(axis=1).reshape((m,) + transformed.shape[1:])
-    if total is None:
-        return term
-    total += term
-    return total
+    for k in range(m):
+        term = spectrum[:, k, None, :] * flat[k]
+        if total is None:
+            total = term
+        else:
+            total += term.reshape(total.shape)
+    return total.reshape((m,) + transformed.shape[1:])

@@ -67,7 +67,85 @@ CHUNK = 1 << 17
 def _band(operator, order: np.ndarray, half: int) -> np.ndarray:
     """E A's entries within ``half`` positions of the diagonal, in LAPACK band storage with room for the fill.
 
-    Diagonals are gathered a few at a time, :data:`CHUNK` entries per call."""
+    Diagonal by diagonal, the operator's :meth:`entries` arithmetic on slices of per-position
+    arrays (node, kind, slip coefficient, row scale): the influence values are gathered at one
+    flat block-Toeplitz index per entry (a differenced contact row's next node is one block
+    row further), without the index arrays of :meth:`entries`. Equal to :func:`_band_from_entries`.
+    """
+    size = order.size
+    band = np.zeros((3 * half + 1, size), order="F")
+    if not size:
+        return band
+    system = operator.problem.system
+    contact, stick, coef = operator.contact, operator.stick, operator.coef
+    nc = contact.size
+    normal_at = order < nc  # the kind of each position's unknown
+    node = np.empty(size, dtype=np.intp)
+    node[normal_at] = contact[order[normal_at]]
+    node[~normal_at] = stick[order[~normal_at] - nc]
+    with_t = coef is not None and system.coupled
+    slip = np.zeros(size)
+    if coef is not None:
+        slip[normal_at] = coef[order[normal_at]]
+    shifted = np.zeros(size, dtype=bool)
+    shifted[normal_at] = operator._differenced()[order[normal_at]]
+    scale = operator.row_scale[order]
+    first = system.S_nn if system.S_nn is not None else system.B_tt
+    m, ne = first.block_size, first.elements
+    # the flat index of gather(): m (i - j) + (m + 1) (j % m) + (N_e - 1) m^2, a row part and a column part
+    base = m * node + (ne - 1) * m * m
+    column = (m + 1) * (node % m) - m * node if m > 1 else -m * node
+
+    def value(op, flat, row_nodes, col_nodes):
+        """op[row node, column node] at their flat indices (explicit rows from their values)."""
+        out = op.values.reshape(-1)[flat]
+        if op.rows.size:
+            slot = op._slots()[row_nodes]
+            explicit = np.flatnonzero(slot >= 0)
+            if explicit.size:
+                out[explicit] = op.row_values[slot[explicit], col_nodes[explicit]]
+        return out
+
+    def normal(flat, row_nodes, col_nodes, cols_n, col_slip):
+        """A contact row's entries before r_n (:meth:`entries`): S_nn (+ S_nt coef) or S_nt."""
+        found = value(system.S_nn, flat, row_nodes, col_nodes)
+        other = value(system.S_nt, flat, row_nodes, col_nodes) if system.coupled else 0.0
+        out = np.where(cols_n, found, other)
+        if with_t:
+            out += np.where(cols_n, other * col_slip, 0.0)
+        return out
+
+    for d in range(-half, half + 1):
+        lo, hi = max(0, -d), min(size, size - d)
+        if lo >= hi:
+            continue
+        rows, cols = slice(lo, hi), slice(lo + d, hi + d)
+        flat = base[rows] + column[cols]
+        row_nodes, col_nodes, cols_n, col_slip = node[rows], node[cols], normal_at[cols], slip[cols]
+        out = np.empty(hi - lo)
+        at = np.flatnonzero(normal_at[rows])
+        if at.size:
+            f, rn, cn, n_, cs = flat[at], row_nodes[at], col_nodes[at], cols_n[at], col_slip[at]
+            found = normal(f, rn, cn, n_, cs)
+            sh = np.flatnonzero(shifted[rows][at])
+            if sh.size:  # the next contact node's row: one node, m flat positions, further
+                found[sh] -= normal(f[sh] + m, rn[sh] + 1, cn[sh], n_[sh], cs[sh])
+            out[at] = system.penalty_n * found
+        at = np.flatnonzero(~normal_at[rows])
+        if at.size:
+            f, rn, cn, n_, cs = flat[at], row_nodes[at], col_nodes[at], cols_n[at], col_slip[at]
+            found = value(system.B_tt, f, rn, cn)
+            if n_.any():
+                found *= np.where(n_, cs, 1.0)
+                if system.coupled:
+                    found += np.where(n_, value(system.B_tn, f, rn, cn), 0.0)
+            out[at] = system.penalty_t * found
+        band[2 * half - d, cols] = out * scale[rows]
+    return band
+
+
+def _band_from_entries(operator, order: np.ndarray, half: int) -> np.ndarray:
+    """:func:`_band` from :meth:`entries`, :data:`CHUNK` entries per call (the reference of the tests)."""
     size = order.size
     band = np.zeros((3 * half + 1, size), order="F")
     per_call = max(1, CHUNK // max(size, 1))
