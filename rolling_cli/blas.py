@@ -17,22 +17,26 @@ SINGLE_THREAD_ENV = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_N
 
 
 def limit_threads():
-    """Limit every BLAS/OpenMP library loaded by numpy and scipy to one thread, until the
-    returned limiter's ``restore_original_limits()`` (or for good, in a worker)."""
-    import scipy.linalg  # noqa: F401  (load the libraries whose threads are limited)
+    """Limit every BLAS/OpenMP library loaded so far to one thread, until the returned limiter's
+    ``restore_original_limits()`` (or for good, in a worker); libraries loaded later (scipy's own
+    BLAS, which only BEM and large dense cases import) read :data:`SINGLE_THREAD_ENV`, set here
+    for good. Importing scipy.linalg only to limit its threads cost every sweep ~0.2 s."""
     from threadpoolctl import threadpool_limits
 
+    os.environ.update(SINGLE_THREAD_ENV)
     return threadpool_limits(limits=1)
 
 
 @contextlib.contextmanager
 def single_threaded():
-    """Run the body with one BLAS thread (the thread counts are restored after it)."""
-    limiter = limit_threads()
-    try:
-        yield
-    finally:
-        limiter.restore_original_limits()
+    """Run the body with one BLAS thread: the libraries loaded before it are restored after it;
+    one first loaded inside it keeps one thread (its count is read once, when it loads)."""
+    with single_thread_environment():
+        limiter = limit_threads()
+        try:
+            yield
+        finally:
+            limiter.restore_original_limits()
 
 
 @contextlib.contextmanager

@@ -168,15 +168,18 @@ def _todo(spec: SweepSpec, done: np.ndarray) -> Iterator[list[tuple[int, dict]]]
             yield piece
 
 
-def solve_items(base: Case, items: list[tuple[int, dict]], warm: bool, use_cache: bool) -> Iterator[Record]:
-    """Build the cases of a chunk and solve them with :func:`solve_chunk`; a case that fails to
-    build (a large sweep validates only its values and corners up front) is a failed record, and
-    the warm-start chain restarts after it. Runs where the chunk runs: in this process, a worker
-    process or a cluster task."""
+def solve_items(
+    base: Case, items: list[tuple[int, dict]], warm: bool, use_cache: bool, built: dict[int, Case] | None = None
+) -> Iterator[Record]:
+    """Build the cases of a chunk (or take them from ``built``, the cases :func:`validate` built, by
+    sweep index) and solve them with :func:`solve_chunk`; a case that fails to build (a large sweep
+    validates only its values and corners up front) is a failed record, and the warm-start chain
+    restarts after it. Runs where the chunk runs: in this process, a worker process or a cluster task."""
     run: list[tuple[int, dict, Case]] = []
     for index, combo in items:
         try:
-            run.append((index, combo, build(base, combo)))
+            case = built.pop(index, None) if built else None
+            run.append((index, combo, case if case is not None else build(base, combo)))
         except CaseError as err:
             yield from solve_chunk(run, warm, use_cache)
             run = []
@@ -336,7 +339,7 @@ def run(
     output = os.fspath(output)
     outputs.check_output(output, inputs=(base.source,), overwrite=overwrite, resume=resume, kind="sweep")
     check_resources(base, spec, output)
-    validate(base, spec)
+    built = validate(base, spec)
     with outputs.claim(output), _executor(workers, scheduler) as (executor, count, task, stop):
         for stale in outputs.stale_temps(output):
             outputs.remove_quietly(stale)
@@ -346,11 +349,12 @@ def run(
         todo = _todo(spec, done)
         try:
             if executor is not None:
+                built.clear()  # the workers build their own
                 _parallel(executor, count, todo, functools.partial(task, base), warm, use_cache, sink, stop)
             else:
                 with blas.single_threaded():
                     for chunk in todo:
-                        for record in solve_items(base, chunk, warm, use_cache):
+                        for record in solve_items(base, chunk, warm, use_cache, built):
                             sink.add(record)
                         sink.chunk_done()
         finally:

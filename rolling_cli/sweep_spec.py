@@ -208,15 +208,14 @@ def build(base: Case, combo: dict) -> Case:
         raise CaseError(f"sweep case ({shown}): {err}") from None
 
 
-def validate(base: Case, spec: SweepSpec) -> None:
+def validate(base: Case, spec: SweepSpec) -> dict[int, Case]:
     """Build and validate the cases before anything is solved: all of them up to
-    :data:`VALIDATE_ALL`, else every value of each key (the others at their first
-    value) and every corner of the value ranges. Cases of a large sweep that only
-    fail in the run are recorded as failed cases."""
+    :data:`VALIDATE_ALL` (returned by sweep index, so a serial run need not build
+    them again), else every value of each key (the others at their first value)
+    and every corner of the value ranges (returns {}). Cases of a large sweep that
+    only fail in the run are recorded as failed cases."""
     if spec.size <= VALIDATE_ALL:
-        for combo in spec.combinations():
-            build(base, combo)
-        return
+        return {index: build(base, combo) for index, combo in enumerate(spec.combinations())}
     firsts = {k: v[0] for k, v in zip(spec.keys, spec.values, strict=True)}
     for key, values in zip(spec.keys, spec.values, strict=True):
         picks = range(len(values)) if len(values) <= CHECK_VALUES // 10 else (0, len(values) - 1)
@@ -227,6 +226,7 @@ def validate(base: Case, spec: SweepSpec) -> None:
         if spec.zipped and len(set(corner)) > 1:
             continue
         build(base, {k: v[i] for k, v, i in zip(spec.keys, spec.values, corner, strict=True)})
+    return {}
 
 
 def bytes_per_case(base: Case, spec: SweepSpec) -> int:

@@ -44,6 +44,20 @@ def test_creep_force_curve_converges_and_warm_starts_pay(tmp_path, name, kind):
     assert np.median(warm) <= np.median(cold)
 
 
+def test_carter_load_curve_takes_one_iteration_per_warm_case(tmp_path):
+    """On a load curve of similar cylinders P stays fixed, so a warm case's pressure is already the
+    converged one (its normal stage takes no iteration, where a cold case needs one from Hertz), and
+    the better of the neighbours' secant and Carter's closed-form traction has the discrete stick and
+    slip nodes but for a node or two: one tangential iteration. The closed form must be chosen where
+    it is better (near full slip, where the stick/slip boundary moves like sqrt(1 - Q/(mu P)) and a
+    secant misplaces it: 83 iterations from the neighbours alone, 47 with the better of the two)."""
+    base = load_case(CASES / "carter.toml")
+    report = sweep.run(base, sweep.curve_spec(base, "load", 41), str(tmp_path / "curve.h5"), workers=1)
+    warm = [r.result for r in report.records.values() if r.result.start == "warm"]
+    assert np.median([r.iterations for r in warm]) == 1
+    assert {r.start_traction for r in warm} == {"neighbours", "closed form"}
+
+
 @pytest.mark.parametrize("direction", [-1, 1])
 @pytest.mark.parametrize("q", [0.5, 0.7, 0.95])
 def test_thin_incompressible_layer_under_overlap_control(q, direction):

@@ -144,6 +144,43 @@ def test_blas_runs_one_thread_in_a_sweep_and_is_restored_after():
     assert counts() == before
 
 
+SHIPPED = Path(__file__).resolve().parent.parent / "cases"
+
+_LATE_BLAS = """
+import sys
+from threadpoolctl import threadpool_info
+from rolling_cli import blas, sweep
+from rolling_cli.case import load_case
+base = load_case(sys.argv[1])
+sweep.run(base, sweep.curve_spec(base, "load", 3), sys.argv[2], workers=1)
+half_plane_sweep_imported_scipy = "scipy.linalg" in sys.modules
+with blas.single_threaded():
+    import scipy.linalg  # first loaded inside the body
+    inside = {lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"}
+print(half_plane_sweep_imported_scipy, sorted(inside))
+"""
+
+
+def test_a_half_plane_sweep_imports_no_scipy_linalg_and_later_blas_runs_one_thread(tmp_path):
+    """A BLAS library first loaded inside the body (scipy's own, which only BEM and large dense
+    cases import) runs one thread too: it reads the environment set by blas.limit_threads. So the
+    half-plane sweep need not import scipy.linalg just to limit its threads (~0.2 s a process)."""
+    done = subprocess.run(
+        [sys.executable, "-c", _LATE_BLAS, str(SHIPPED / "carter.toml"), str(tmp_path / "s.h5")],
+        capture_output=True,
+        text=True,
+        env={k: v for k, v in os.environ.items() if k not in blas_env_names()},
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split("\n")[-2] == "False [1]"
+
+
+def blas_env_names():
+    from rolling_cli.blas import SINGLE_THREAD_ENV
+
+    return set(SINGLE_THREAD_ENV)
+
+
 def test_an_existing_output_needs_overwrite_or_resume(tmp_path):
     case = _write(tmp_path, SMALL)
     out = tmp_path / "s.h5"

@@ -9,6 +9,8 @@
   profiles are mapped piecewise-linearly onto the predicted boundaries, and the
   secant is taken of the mapped profiles. The overlap and the creepage are
   extrapolated linearly.
+* :func:`with_traction`: a state with another's tangential traction and
+  creepage (a neighbour's pressure with a closed-form traction).
 * :func:`transfer`: a state moved onto another grid (a larger zone, a finer
   mesh): tractions interpolated, zero outside the old zone.
 
@@ -139,6 +141,15 @@ def secant(x: np.ndarray, points: list[tuple[float, State, Zones]], s: float, mu
         state1.overlap + t * (state1.overlap - state0.overlap),
         state1.creep + t * (state1.creep - state0.creep),
     )
+
+
+def with_traction(state: State, other: State, mu: float) -> State:
+    """``state`` with the tangential traction and creepage of ``other`` (the traction clipped to
+    ``state``'s friction bound mu |p_n|); its pressure and overlap are kept."""
+    out = state.copy()
+    out.p_t = np.clip(other.p_t, mu * state.p_n, -mu * state.p_n)
+    out.creep = float(other.creep)
+    return out
 
 
 def _inside_contact(x: np.ndarray, zones: Zones, boundaries: np.ndarray) -> np.ndarray:
