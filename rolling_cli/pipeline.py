@@ -282,6 +282,7 @@ class Level:
     history: list[dict] | None = None
     fields: adaptive.LevelFields | None = None
     transferred: bool = False
+    restart: State | None = None  # a warm-started level's closed-form start, tried if the warm one fails
 
     @property
     def touches_edge(self) -> bool:
@@ -539,7 +540,8 @@ class MeshPath:
     def _warm_start(self, level: Level) -> tuple[State, bool, bool] | None:
         """The given warm start, or that start with Carter's closed-form traction and creepage in
         place of its own where this has the smaller residual merit, or (with ``compare_start``)
-        None for the cold start where that is better still.
+        None for the cold start where that is better still. The cold start is kept as the
+        level's ``restart``: the solver tries it next if the warm start fails.
 
         The closed-form traction matters where the cold start is nearly exact: on a load
         curve of similar cylinders Carter's traction has the discrete solution's stick and slip
@@ -551,9 +553,7 @@ class MeshPath:
         case, system = level.case, level.system
         task = _task(case, level.plan, system)
         candidates = [self.start]
-        cold = None
-        if case.friction.mu > 0.0 or self.compare_start:
-            cold = initial_state(case, level.plan, system)
+        cold = initial_state(case, level.plan, system)
         if case.friction.mu > 0.0:
             candidates.append(predictor.with_traction(self.start, cold, case.friction.mu))
         if self.compare_start:
@@ -564,6 +564,7 @@ class MeshPath:
             return None
         self.warm = True
         self.start_traction = "closed form" if best == 1 else "neighbours"
+        level.restart = cold  # should the warm start fail
         return candidates[best], False, False
 
     def _refined_start(self, previous: Level, level: Level) -> tuple[State, bool, bool]:
@@ -625,7 +626,8 @@ class MeshPath:
         budget = Budget(level.case.solver.max_iterations)
         t0 = time.perf_counter()
         try:
-            level.solution = control.solve(task, state, budget, cold=cold, settle=settle)
+            restart, level.restart = level.restart, None
+            level.solution = control.solve(task, state, budget, cold=cold, settle=settle, restart=restart)
         except ConvergenceError as err:
             level.failure, level.history = err, budget.history
             remesh_event = level.kind in ("case grid", "enlarged zone") and level.touches_edge

@@ -232,6 +232,36 @@ def test_a_strategy_that_runs_out_of_budget_raises_with_its_best_state():
     assert failed.value.best is not None and failed.value.reason == "budget"
 
 
+def test_a_failed_warm_start_is_retried_from_the_closed_form_before_the_fallbacks(monkeypatch):
+    """strategies.default with a ``restart`` (the closed-form start of a warm-started case): when the
+    first strategy fails, the next one is the same Newton from ``restart`` with its node states read
+    from the pressure (cold), whatever state the failure handed on; it converges to the solution."""
+    case, the_plan, system, task = _task(dissimilar(**SMALL))
+    cold = pipeline.initial_state(case, the_plan, system)
+    reference = strategies.direct(task, cold, Budget(100), cold=True)
+    real_direct = strategies.direct
+    calls = []
+
+    def direct(task, start, budget, cold=False, globalisation=None, name="direct"):
+        calls.append((name, start, cold))
+        if name == "direct":  # the warm attempt fails, handing on its start
+            raise strategies.StrategyFailed(name, "coupled", "stagnation", start, 1.0)
+        return real_direct(task, start, budget, cold=cold, globalisation=globalisation, name=name)
+
+    monkeypatch.setattr(strategies, "direct", direct)
+    warm = reference.state.copy()
+    warm.p_t = -warm.p_t[::-1]  # a poor neighbour: stick and slip zones swapped end for end
+    solution = strategies.default(task, restart=cold)(task, warm, Budget(100))
+    assert [name for name, _, _ in calls] == ["direct", "direct, closed-form start"]
+    assert calls[1][1] is cold and calls[1][2] is True
+    scale = case.friction.mu * float(np.max(-reference.state.p_n))
+    assert np.max(np.abs(solution.state.p_t - reference.state.p_t)) <= 1e-8 * scale
+    calls.clear()
+    with pytest.raises(strategies.StrategyFailed):  # without a restart: straight to the fallbacks
+        strategies.default(task)(task, warm, Budget(3))
+    assert "direct, closed-form start" not in [name for name, _, _ in calls]
+
+
 # --- continuation driver and predictors -------------------------------------------------------------------
 
 

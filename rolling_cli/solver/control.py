@@ -24,11 +24,14 @@ ADVICE = {
 }
 
 
-def solve(task: Task, start: State, budget: Budget, *, cold: bool = False, settle: bool = False) -> Solution:
+def solve(
+    task: Task, start: State, budget: Budget, *, cold: bool = False, settle: bool = False, restart: State | None = None
+) -> Solution:
     """Solve ``task`` from ``start`` (``cold``: a closed-form guess, whose first node states are read
-    from the pressure; ``settle``: its pressure is only approximate, see
-    :func:`~rolling_cli.solver.strategies.default`). Raises ConvergenceError or GrossSlidingError."""
-    strategy = strategies.default(task, settle)
+    from the pressure; ``settle``: its pressure is only approximate; ``restart``: for a warm start,
+    the closed-form start tried next if it fails; see :func:`~rolling_cli.solver.strategies.default`).
+    Raises ConvergenceError or GrossSlidingError."""
+    strategy = strategies.default(task, settle, restart)
     try:
         return strategy(task, start, budget, cold=cold)
     except StrategyFailed as err:
