@@ -102,7 +102,7 @@ def plan(case: Case, half_width: float | None = None, check: bool = True) -> Pla
     beta = materials.beta_seed(a.modulus, a.ratio, b.modulus, b.ratio)
     measured = True
     if half_width is None:
-        if case.normal.load is not None and not _layered(case):
+        if hertz_applies(case):
             half_width = hertz.half_width(float(case.normal.load), r_star, e_star)
         else:
             half_width, measured = first_guess(case, e_star, r_star), False
@@ -158,6 +158,23 @@ def _check_layer_elements(case: Case, grid: ContactGrid) -> None:
 
 def _layered(case: Case) -> bool:
     return case.bodies.A.kind == "layered" or case.bodies.B.kind == "layered"
+
+
+def hertz_applies(case: Case) -> bool:
+    """Hertz gives a and the pressure of the cold start: the load is prescribed on two half-spaces.
+    Otherwise (layers, overlap control) the closed-form pressure is only a first approximation."""
+    return case.normal.load is not None and not _layered(case)
+
+
+def _settle_cold(case: Case) -> bool:
+    """A closed-form start on a prebuilt system (a sweep's cold case: no pre-solve levels) has its
+    pressure settled before friction enters on a layer under creepage control: there the Hertz
+    pressure is off and Carter's traction for the creepage is full slip, and the coupled Newton
+    cycled (tyred_fig11_q41, 21-point creep curve, --no-warm-start: 420 iterations, up to 46 a
+    case; settled: 150, up to 8). Measured and not taken: settling every start whose pressure is
+    not Hertz's (layers under load control 144 -> 170, paper_fig5_q075's overlap-controlled creep
+    curve 83 -> 134)."""
+    return _layered(case) and case.tangential.control()[0] == "creep"
 
 
 def first_guess(case: Case, e_star: float, r_star: float) -> float:
@@ -609,8 +626,8 @@ class MeshPath:
         if that fails too, the level is returned failed (the adaptive loop stops before it)."""
         level = self.levels[number]
         system = self._system(level)
-        if start is None:
-            start = initial_state(level.case, level.plan, system), True, False
+        if start is None:  # the closed form
+            start = initial_state(level.case, level.plan, system), True, _settle_cold(level.case)
         taken = self._attempt(level, system, *start)
         if level.failure is not None and level.kind == "refined mesh" and level.transferred:
             level.failure, level.transferred = None, False

@@ -78,3 +78,20 @@ def test_thin_incompressible_layer_under_overlap_control(q, direction):
     assert_contact_laws(r)
     assert r.q_over_mu_p == pytest.approx(q * direction, abs=1e-9)
     assert 0.04 <= 0.05 / r.contact_half_width <= 0.06  # b/a = 0.05
+
+
+def test_cold_cases_of_a_layer_under_creepage_control_settle_the_pressure_first(tmp_path):
+    """--no-warm-start on a prebuilt system has no pre-solve levels: on a layer under creepage control
+    the closed-form start (Hertz pressure, Carter's full-slip traction) is settled (normal problem with
+    p_t = 0 first) before the coupled Newton, which from the raw start cycled for 45 iterations a case
+    near full slip; under load control the start stays direct."""
+    base = load_case(CASES / "tyred_fig11_q41.toml")
+    spec = sweep.curve_spec(base, "creep", 41)
+    items = [(i, spec.combination(i)) for i in (33, 35)]
+    records = list(sweep.solve_items(base, items, False, True))
+    for record in records:
+        assert record.converged, record.message
+        assert_contact_laws(record.result, tolerance=record.result.tolerance_applied)
+        assert record.result.strategies.startswith("case grid: settled")
+    loaded = list(sweep.solve_items(base, [(0, {"tangential.q_over_mu_p": 0.5})], False, True))
+    assert loaded[0].converged and loaded[0].result.strategies.startswith("case grid: direct")
