@@ -972,7 +972,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         attributes=attrs,
         history=history,
         reference=reference,
-        case_toml=case_to_toml(case),
+        case=case,
         frictional_power=dissipation,
     )
 

@@ -48,15 +48,27 @@ class Result:
     attributes: dict = field(default_factory=dict)
     history: list[dict] = field(default_factory=list)
     reference: dict[str, np.ndarray] = field(default_factory=dict)
-    case_toml: str = ""
+    case_toml: str = ""  # the resolved case as TOML (written from ``case`` when first read)
     frictional_power: np.ndarray | None = None  # [stress], rolling_cli.stresses.power
     stresses: dict = field(default_factory=dict)  # body label -> rolling_cli.stresses.compute.BodyStresses
+    case: object = field(default=None, repr=False, compare=False)  # the resolved Case, if solved here
 
     def __getattr__(self, name: str):
         attrs = self.__dict__.get("attributes", {})
         if name in attrs:
             return attrs[name]
         raise AttributeError(name)
+
+    def _get_case_toml(self) -> str:
+        text = self.__dict__.get("_case_toml", "")
+        if not text and self.__dict__.get("case") is not None:
+            from .case import case_to_toml
+
+            text = self._case_toml = case_to_toml(self.case)
+        return text
+
+    def _set_case_toml(self, text: str) -> None:
+        self._case_toml = text
 
     @property
     def units(self) -> dict[str, str]:
@@ -101,3 +113,9 @@ def node_states(p_n: np.ndarray, stick: np.ndarray) -> np.ndarray:
     state[contact & stick] = 1
     state[contact & ~stick] = 2
     return state
+
+
+# The TOML of a solved case is written only when read (a sweep's cases never are: the sweep file
+# holds the base case and the swept values): a property over the dataclass field, set after the
+# class is made so that the field keeps its default "" in __init__.
+Result.case_toml = property(Result._get_case_toml, Result._set_case_toml)
