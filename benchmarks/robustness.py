@@ -107,8 +107,8 @@ def random_layer_case(rng: random.Random) -> tuple[dict, float]:
 def run(draw, seeds: list[int], cases: int, label: str) -> collections.Counter:
     """Solve ``cases`` draws per seed; print one table row per seed and every failure."""
     print(f"\n{label}\n")
-    print("| seed | cases | failed | median iterations | p90 | max | time [s] |")
-    print("|---:|---:|---:|---:|---:|---:|---:|")
+    print("| seed | cases | failed | median iterations | p90 | max | total | time [s] |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
     totals = collections.Counter()
     failures = []
     for seed in seeds:
@@ -133,7 +133,7 @@ def run(draw, seeds: list[int], cases: int, label: str) -> collections.Counter:
         its = np.array(iterations or [0])
         print(
             f"| {seed} | {cases} | {failed} | {np.median(its):.0f} | {np.percentile(its, 90):.0f} | {its.max()} "
-            f"| {time.perf_counter() - t0:.0f} |",
+            f"| {its.sum()} | {time.perf_counter() - t0:.0f} |",
             flush=True,
         )
     for seed, k, coupling, kind, message in failures:

@@ -103,6 +103,26 @@ def test_watchdog_takes_a_full_step_that_raises_the_merit_armijo_does_not():
     assert mono.history[0]["step"] < 1.0
 
 
+def test_watchdog_stops_when_a_backtrack_would_only_retrace_its_free_steps():
+    """F has no root: 1 + 0.01 x for x >= -0.1, and 0.999 - (x + 0.1) below. From x = 0 the Newton
+    step lands at -100 (merit up 10^4), whose step returns to 0.9, whose step lands near -100 again:
+    a cycle. The backtrack from the best iterate (x = 0) finds a decrease only within 1/1000 of the
+    step, where the free steps would start the same cycle again: stagnation after one round of free
+    steps, instead of cycling until the patience runs out."""
+
+    def f(x):
+        return 1.0 + 0.01 * x if x >= -0.1 else 0.999 - (x + 0.1)
+
+    system = _scalar(f, lambda x: 0.01 if x >= -0.1 else -1.0)
+    watchdog = Watchdog()
+    budget = Budget(1000)
+    with pytest.raises(NewtonFailure) as failed:
+        newton(system, np.array([0.0]), tolerance=1e-12, budget=budget, globalisation=watchdog)
+    assert failed.value.reason == "stagnation"
+    assert budget.taken <= watchdog.free_steps + 2 < watchdog.patience
+    assert failed.value.best_x[0] == 0.0
+
+
 # --- node-state rules ------------------------------------------------------------------------------------
 
 

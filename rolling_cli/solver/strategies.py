@@ -458,9 +458,11 @@ def merit(task: Task, state: State) -> float:
 #: merit, which warm starts and layers need), the monotone line search for the fallbacks (robust
 #: where the normal-tangential coupling is strong: benchmarks/RESULTS.md, robustness). A settled
 #: start gets a longer patience: on a thin incompressible layer near full slip the watchdog needed
-#: three of its cycles (33 iterations) to find its way, where 20 stopped it.
+#: three of its cycles (33 iterations) to find its way, where 20 stopped it; its cycles restart from
+#: a backtrack of less than 1/16 of the step, so it keeps them (``retrace=0``: tests/test_paths.py,
+#: the thin layer at Q/(mu P) = 0.7 fails within 100 iterations without them).
 WATCHDOG = Watchdog()
-PATIENT_WATCHDOG = Watchdog(patience=40)
+PATIENT_WATCHDOG = Watchdog(patience=40, retrace=0.0)
 MONOTONE = Armijo()
 
 
