@@ -95,7 +95,7 @@ def galerkin(operator, apply: Callable[[np.ndarray], np.ndarray]) -> tuple[np.nd
     starts = np.concatenate([normal[0], tangential[0]])
     border = np.array([k for k in (operator.col_overlap, operator.col_creep) if k is not None], dtype=np.intp)
     core = starts.size
-    matrix = np.zeros((core + border.size,) * 2)
+    matrix = np.zeros((core + border.size,) * 2, order="F")  # (LAPACK's order: factorised in place)
     _traction_block(operator, normal, tangential, matrix)
     if border.size:  # border columns: A e_b restricted; border rows: V summed per aggregate
         _, _, rows, _ = operator.borders()
