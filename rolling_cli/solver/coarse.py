@@ -20,9 +20,12 @@ factorised by a dense LU once per Newton step.
 
     y = M^-1 E v,   y <- y + P A_c^-1 P^T (v - A y)
 
-(one more product by A per iteration). With ~1 coarse unknown per 24 fine
-ones the iterations per Newton step stay ~10 where the band alone takes
-~60 at 10,000 nodes and stalls at 100,000 (benchmarks/RESULTS.md).
+(one more product by A per iteration). With one coarse unknown per ~24 fine
+ones (at most :data:`COARSE_LIMIT`) a Newton step of the coupled dissimilar
+case takes ~6 GMRES iterations at 10,000 nodes (the band alone ~60) and ~17 at
+100,000, where the band alone stalls (benchmarks/RESULTS.md). The coarse
+matrix is exact (tested against P^T A P from products); the preconditioner
+only changes the iterations, not what GMRES converges to.
 """
 
 from __future__ import annotations
@@ -81,7 +84,9 @@ def galerkin(operator, apply: Callable[[np.ndarray], np.ndarray]) -> tuple[np.nd
     """The aggregates and A_c = P^T A P of the module docstring: (first unknown of each
     aggregate, the number of traction unknowns, the border unknowns, A_c) with the coarse unknowns
     ordered as the aggregates (contact, then adhesion), then the borders; ``apply`` is z ->
-    row_scale (A z) [dimensionless]."""
+    row_scale (A z). Units: the unknowns are stresses (tractions, r_n overlap, r_t creepage)
+    and the scaled rows dimensionless, so A_c is in 1/stress and P A_c^-1 P^T maps a scaled
+    residual to a correction in stress."""
     system = operator.problem.system
     first = system.S_nn if system.S_nn is not None else system.B_tt
     nc, ns = operator.contact.size, operator.stick.size
