@@ -15,12 +15,15 @@ ones. Two columns of time:
 result attribute): "dense LU", or "Krylov" on the matrix-free path that uniform
 grids from :data:`rolling_cli.influence.halfplane.OPERATOR_NODES` nodes get
 (issue #14 item 2); ``Krylov it.`` the GMRES iterations of all Newton steps.
-``--dense-up-to N`` adds, for sizes up to N nodes on the matrix-free path, the
+``--preconditioner band`` runs coupled systems with the near-field band alone
+(without the coarse-grid correction, :mod:`rolling_cli.solver.coarse`), in
+process only. ``--dense-up-to N`` adds, for sizes up to N nodes on the matrix-free path, the
 same case forced onto the dense path (in-process time and the largest relative
 difference of p_n and p_t; the threshold's crossover).
 
     python benchmarks/bench_solve.py [--repeat 3] [--process-repeat 5] [--sizes 50,100,...]
-        [--fast-sizes 1000,3000,10000,30000,100000] [--dense-up-to 3200]
+        [--fast-sizes 1000,3000,10000,30000,100000] [--dense-up-to 3200] [--cases "dissimilar q=0.75"]
+        [--preconditioner two-level|band]
 """
 
 from __future__ import annotations
@@ -46,9 +49,12 @@ from rolling_cli.case import load_case  # noqa: E402
 from rolling_cli.errors import ConvergenceError  # noqa: E402
 from rolling_cli.influence import halfplane  # noqa: E402
 from rolling_cli.influence.build import clear_memo  # noqa: E402
+from rolling_cli.solver import matrix_free  # noqa: E402
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 FILES = {"Carter q=0.51": "carter.toml", "dissimilar q=0.04": "dissimilar_q04.toml"}
+#: Cases named here are a shipped file with Q/(mu P) replaced (not in the default list).
+VARIANTS = {"dissimilar q=0.75": ("dissimilar_q04.toml", 0.75)}
 
 
 def run(case, repeat):
@@ -113,10 +119,16 @@ def whole_process(data: dict, repeat: int, folder: Path) -> tuple[float, float]:
 
 
 def case_data(file: str, element: str, elements: int) -> dict:
-    """The shipped case ``file`` with its element type and count replaced (a plain dict)."""
+    """The shipped case ``file`` (or a name of :data:`VARIANTS`) with its element type and count
+    replaced (a plain dict)."""
+    q = None
+    if file in VARIANTS:
+        file, q = VARIANTS[file]
     data = tomllib.loads((CASES / file).read_text())
     data["discretization"]["element"] = element
     data["discretization"]["contact_elements"] = elements
+    if q is not None:
+        data["tangential"]["q_over_mu_p"] = q
     return data
 
 
@@ -127,8 +139,16 @@ def main() -> None:
     parser.add_argument("--sizes", default="50,100,200,400,800,1600,3200")
     parser.add_argument("--fast-sizes", default="1000,3000,10000,30000,100000", help="quadratic elements only")
     parser.add_argument("--dense-up-to", type=int, default=0, help="compare with the dense path up to n nodes")
-    parser.add_argument("--cases", default=",".join(FILES))
+    parser.add_argument("--cases", default=",".join(FILES), help=f"of {', '.join([*FILES, *VARIANTS])}")
+    parser.add_argument(
+        "--preconditioner",
+        choices=("two-level", "band"),
+        default="two-level",
+        help="coupled systems' Krylov preconditioner in process (band: the near field alone, as before "
+        "the coarse correction; the process column always runs the default)",
+    )
     args = parser.parse_args()
+    matrix_free.TWO_LEVEL = args.preconditioner == "two-level"
     sizes = [int(s) for s in args.sizes.split(",") if s]
     fast = [int(s) for s in args.fast_sizes.split(",") if s]
     print(
@@ -146,7 +166,7 @@ def main() -> None:
             for element, n in runs:
                 per = 1 if element == "constant" else 3
                 elements = max(2, round(n / per))
-                data = case_data(FILES[name], element, elements)
+                data = case_data(FILES.get(name, name), element, elements)
                 case = load_case(data)
                 try:
                     wall, r = run(case, args.repeat)

@@ -305,8 +305,11 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     node - 1, W = NEAR_FIELD, per node 2 coupled): its assembly (B and the assembly's
     temporaries, per unknown), its single-precision factorisation (1.5 B: the double band and its float32
     copy) and GMRES (B / 2, the Arnoldi basis and the preconditioned directions, 2 restart + 1
-    per unknown)."""
-    from .solver import krylov, matrix_free
+    per unknown). Coupled systems add the coarse-grid correction (:mod:`rolling_cli.solver.coarse`,
+    C coarse unknowns, at least one per :data:`~rolling_cli.solver.coarse.AGGREGATE` unknowns):
+    its assembly (B / 2 and 4 C^2: the corner sums, their difference, the gathered block and the
+    coarse matrix) and its LU during GMRES (C^2)."""
+    from .solver import coarse, krylov, matrix_free
 
     contact = n / zone
     per_node = 2 if coupled else 1
@@ -315,11 +318,21 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     band = (3 * half + 1) * size
     restart = krylov.RESTART
     chunk = KRYLOV_ASSEMBLY_TEMPORARIES * size
-    phases = (band + chunk, 1.5 * band, 0.5 * band + (2 * restart + 1) * size)
+    fine = int(math.ceil(size))
+    unknowns = math.ceil(fine / coarse.aggregate_nodes(fine, 1)) + 2 if coupled and matrix_free.TWO_LEVEL else 0
+    phases = (
+        band + chunk,
+        1.5 * band,
+        0.5 * band + 4.0 * unknowns**2,
+        0.5 * band + (2 * restart + 1) * size + unknowns**2,
+    )
     doubles = max(phases) + KRYLOV_VECTORS * n + KRYLOV_IMPORTS
     iterations = 50  # Krylov iterations per Newton step, a rough mean (benchmarks/bench_solve.py)
     per_iteration = 40.0 * n * math.log2(max(n, 2)) + 4.0 * size * (3 * half + 1) + 4.0 * restart * size
-    flops = NEWTON_ITERATIONS * (2.0 * size * half**2 + iterations * per_iteration)
+    if unknowns:  # one more product per iteration; the coarse matrix and its LU per step
+        per_iteration += 40.0 * n * math.log2(max(n, 2)) + 2.0 * unknowns**2
+    coarse_step = 2.0 / 3.0 * unknowns**3 + 30.0 * unknowns**2
+    flops = NEWTON_ITERATIONS * (2.0 * size * half**2 + coarse_step + iterations * per_iteration)
     return doubles, flops
 
 

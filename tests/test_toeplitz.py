@@ -108,3 +108,30 @@ def test_scalar_arithmetic_and_checks():
         BlockToeplitz(np.zeros((5, 3, 3)), rows=[1, 1], row_values=np.zeros((2, 9)))
     with pytest.raises(ValueError, match="rows"):
         fast.S_nn @ np.zeros(5)
+
+
+@pytest.mark.parametrize("order,elements", [(2, 40), (0, 61)])
+def test_corner_sums_are_the_cumulated_matrix(order, elements):
+    """sum_{a < x, b < y} M[a, b] (the coarse grid of the Krylov preconditioner) against the dense
+    matrix cumulated over rows and columns, for the half-plane blocks and the slip operator's
+    derivative (explicit rows), at node counts on and off the element boundaries. The Toeplitz
+    sums are differences of the twice cumulated offset values, which grow to ~(2 N_e)^2 m^2
+    max|v|: their round-off is a few eps of that (against ~n^2 eps max|M| for the dense sums)."""
+    grid, dense, fast = _pair(order, elements)
+    derivative = fast.S_tt.upwind_derivative(grid.spacing, -1, "element")
+    n = grid.size
+    rng = np.random.default_rng(4)
+    x = np.concatenate([[0, n], rng.integers(0, n + 1, 12)])
+    y = np.concatenate([[0, n], rng.integers(0, n + 1, 9)])
+    for op in (fast.S_nn, fast.S_nt, derivative):
+        assert op is not derivative or op.rows.size  # the explicit rows are covered
+        matrix = op.toarray()
+        cumulated = np.zeros((n + 1, n + 1))
+        cumulated[1:, 1:] = np.cumsum(np.cumsum(matrix, axis=0), axis=1)
+        m = op.block_size
+        bound = 8 * EPS * (2 * op.elements + 1) ** 2 * m**2 * np.abs(op.values).max() + 8 * EPS * n * np.abs(
+            op.row_values
+        ).sum(initial=0.0)
+        assert np.abs(op.corner_sums(x, y) - cumulated[np.ix_(x, y)]).max() <= bound
+        aligned = np.arange(0, n + 1, m)  # all on element boundaries: the positions' sums at once
+        assert np.abs(op.corner_sums(aligned, aligned) - cumulated[np.ix_(aligned, aligned)]).max() <= bound

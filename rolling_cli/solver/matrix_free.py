@@ -28,9 +28,13 @@ of the near field as preconditioner (:mod:`rolling_cli.solver.near_field`):
 
 The far field the band leaves out grows (slowly) with the grid, and so do the
 Krylov iterations per Newton step: ~60 at 10,000 nodes, a few hundred at
-30,000 (benchmarks/RESULTS.md); at 100,000 nodes a coupled system no longer
-converges in GMRES(100) with this preconditioner (a coarse-grid correction
-would be the next step).
+30,000, and at 100,000 nodes a coupled system no longer converges in
+GMRES(100) with the band alone. Coupled systems (:data:`TWO_LEVEL`) therefore
+add a coarse-grid correction after the band (:mod:`rolling_cli.solver.coarse`:
+aggregates of ~24 unknowns, the exact Galerkin coarse matrix from corner sums
+of the influence operators, a dense LU per Newton step): ~6 iterations per
+step at 10,000 nodes, ~17 at 100,000 (benchmarks/RESULTS.md). Decoupled
+systems (similar bodies) keep the band alone.
 
 GMRES stops when the largest scaled residual component is at most the
 round-off floor of the system (:func:`~rolling_cli.solver.formulation.roundoff_floor`,
@@ -48,7 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..influence.toeplitz import apply_sum, gather, products
-from . import krylov, near_field
+from . import coarse, krylov, near_field
 from .formulation import Evaluation, NodeSets, Problem, ReducedSystem, State, roundoff_floor
 
 log = logging.getLogger(__name__)
@@ -72,6 +76,10 @@ FORCING_FROM = 1e-2
 #: (:meth:`ReducedOperator.solve_dense`), and above it fails (numpy.linalg.LinAlgError).
 STAGNATION_ALLOWANCE = 10.0
 DENSE_FALLBACK = 4000
+#: Coupled systems (the normal and tangential problems together) add the coarse-grid correction of
+#: :mod:`rolling_cli.solver.coarse` to the near-field preconditioner; decoupled ones (similar
+#: bodies) keep the band alone.
+TWO_LEVEL = True
 
 
 @dataclass
@@ -237,6 +245,20 @@ class ReducedOperator:
         columns *= self.row_scale[: nc + ns, None]
         return border, columns, rows, np.zeros((border.size, border.size))
 
+    def preconditioner(self, apply):
+        """The right preconditioner of GMRES for the scaled product ``apply``: the near-field band
+        (:mod:`~rolling_cli.solver.near_field`) and, for coupled systems when :data:`TWO_LEVEL`,
+        the coarse-grid correction after it (:func:`rolling_cli.solver.coarse.two_level`; the band
+        alone if the coarse system is singular)."""
+        band = near_field.preconditioner(self, NEAR_FIELD)
+        if not (TWO_LEVEL and self.problem.system.coupled):
+            return band
+        try:
+            return coarse.two_level(apply, band, coarse.CoarseCorrection(self, apply))
+        except np.linalg.LinAlgError:
+            log.debug("singular coarse system: the near-field preconditioner alone")
+            return band
+
     # --- the solve ------------------------------------------------------------------------------
 
     def solve(self, rhs: np.ndarray, start: np.ndarray | None = None, target: float | None = None) -> np.ndarray:
@@ -250,7 +272,7 @@ class ReducedOperator:
         def apply(z):
             return scale * (self @ z)
 
-        result = krylov.gmres(apply, scale * rhs, near_field.preconditioner(self, NEAR_FIELD), target, start=start)
+        result = krylov.gmres(apply, scale * rhs, self.preconditioner(apply), target, start=start)
         _record(self.problem.system, result.iterations)
         if not result.residual <= STAGNATION_ALLOWANCE * target:
             if self.shape[0] <= DENSE_FALLBACK:
