@@ -74,9 +74,17 @@ TARGETS = [1e-2, 7e-3, 5e-3, 3.5e-3, 2e-3, 1e-3, 5e-4]
 TARGET_RATIO = 20.0
 
 
+#: The console script's body (``rollc``: ``from rolling_cli.cli import entry; sys.exit(entry())``), run
+#: with ``-c`` so that every tree runs its own entry point: ``entry`` where the tree has one (the quick
+#: exit), else the click group ``main`` (the trees before it).
+LAUNCHER = (
+    "import re, sys; sys.argv[0] = 'rollc'; import rolling_cli.cli as cli; sys.exit(getattr(cli, 'entry', cli.main)())"
+)
+
+
 def rollc_command() -> list[str]:
-    exe = Path(sys.executable).with_name("rollc")
-    return [str(exe)] if exe.exists() else [sys.executable, "-m", "rolling_cli"]
+    """``rollc`` as the console script runs it, for whichever tree ``PYTHONPATH`` selects."""
+    return [sys.executable, "-c", LAUNCHER]
 
 
 def child_environment() -> dict:

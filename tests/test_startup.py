@@ -12,6 +12,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
@@ -90,3 +91,57 @@ def test_bem_cache_hit_imports_no_bem(tmp_path, monkeypatch):
     modules = _run(tmp_path, *args, "second.h5")
     assert (tmp_path / "second.h5").is_file()
     assert not _loaded(modules, "rolling_cli.influence.bem")
+
+
+def _rollc(tmp_path: Path, *args: str) -> subprocess.CompletedProcess:
+    """``python -m rolling_cli *args`` (the console script's entry, :func:`rolling_cli.cli.entry`)."""
+    return subprocess.run([sys.executable, "-m", "rolling_cli", *args], cwd=tmp_path, capture_output=True, text=True)
+
+
+def test_entry_quick_exit_keeps_output_file_and_exit_codes(tmp_path):
+    """The console entry ends the process without the interpreter's teardown: what a command prints
+    must still reach a pipe, its file must be complete, and its exit code must be kept."""
+    import rolling_cli
+
+    done = _rollc(tmp_path, "solve", str(CASES / "carter.toml"), "-o", "r.h5")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.rstrip().endswith("written        r.h5")  # the summary's last line, flushed
+    written = rolling_cli.read_result(tmp_path / "r.h5")
+    direct = rolling_cli.solve(rolling_cli.load_case(CASES / "carter.toml"))
+    # the same solve in this process: the file holds every node's tractions (written, closed, flushed)
+    assert np.array_equal(written.p_n, direct.p_n) and np.array_equal(written.p_t, direct.p_t)
+    assert written.attributes["converged"]
+    bad = _rollc(tmp_path, "solve", str(tmp_path / "missing.toml"))
+    assert bad.returncode == 2 and bad.stderr.startswith("error: ") and not bad.stdout
+    version = _rollc(tmp_path, "--version")
+    assert version.returncode == 0 and version.stdout.startswith("rollc, version")
+    usage = _rollc(tmp_path, "solve")  # click's usage error: its own exit code
+    assert usage.returncode == 2 and "Missing argument" in usage.stderr
+
+
+_SAFE = """
+import sys, threading
+import h5py
+from rolling_cli import cli
+states = [cli._fast_exit_safe()]
+handle = h5py.File(sys.argv[1], "w")
+states.append(cli._fast_exit_safe())
+handle.close()
+stop = threading.Event()
+worker = threading.Thread(target=stop.wait)
+worker.start()
+states.append(cli._fast_exit_safe())
+stop.set()
+worker.join()
+states.append(cli._fast_exit_safe())
+import multiprocessing  # noqa: F401
+states.append(cli._fast_exit_safe())
+print(states)
+"""
+
+
+def test_quick_exit_only_when_the_process_is_quiet(tmp_path):
+    """No quick exit while an HDF5 file is open, another thread runs or worker machinery is loaded."""
+    done = subprocess.run([sys.executable, "-c", _SAFE, str(tmp_path / "f.h5")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[True, False, False, True, False]"
