@@ -145,3 +145,31 @@ def test_quick_exit_only_when_the_process_is_quiet(tmp_path):
     done = subprocess.run([sys.executable, "-c", _SAFE, str(tmp_path / "f.h5")], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[True, False, False, True, False]"
+
+
+_GC = """
+import atexit, gc, json, sys
+from rolling_cli import cli, pipeline
+seen = []
+original = pipeline.solve
+def solve(*args, **kwargs):
+    seen.append(gc.isenabled())
+    return original(*args, **kwargs)
+pipeline.solve = solve
+report = lambda: print(json.dumps({"during_solve": seen, "frozen": gc.get_freeze_count(), "after": gc.isenabled()}))
+atexit.register(report)
+sys.argv = ["rollc", "-q", "solve", sys.argv[1], "-o", "r.h5"]
+cli.entry()
+"""
+
+
+def test_entry_collects_garbage_again_once_the_command_has_imported(tmp_path):
+    """The console entry turns garbage collection off for the start-up's imports only: the solve
+    itself runs with it on (the imports' objects frozen out of its reach)."""
+    done = subprocess.run(
+        [sys.executable, "-c", _GC, str(CASES / "carter.toml")], cwd=tmp_path, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    state = json.loads(done.stdout)
+    assert state["during_solve"] == [True] and state["after"]
+    assert state["frozen"] > 1000  # the modules' objects (numpy, h5py, the package): tens of thousands
