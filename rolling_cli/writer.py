@@ -689,9 +689,10 @@ _SCALAR_SPACE = None
 def _set_attrs(obj, attrs: dict) -> None:
     """Write attributes as ``obj.attrs[name] = value`` does (same HDF5 types, shapes and values, an
     existing attribute replaced), through h5py's low-level API with the types derived once per kind:
-    half the time of the high-level path, whose type derivation per attribute is most of a result
-    file's ~220 attribute writes. Values other than a str or a numeric (int, unsigned, float) numpy
-    scalar, array or Python number take the high-level path unchanged.
+    about half the time of the high-level path (which guesses the dtype and derives both HDF5 types
+    anew for each attribute; measured on 300 attributes, 18 -> 10 ms), for the ~220 attributes of a
+    result file. Values other than a str or a numeric (int, unsigned, float) numpy scalar, array or
+    Python number take the high-level path unchanged.
     """
     global _SCALAR_SPACE
     oid = obj.id
