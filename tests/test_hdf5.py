@@ -283,3 +283,41 @@ def _string_kind(attr) -> tuple | None:
     if kind.get_class() != h5py.h5t.STRING:
         return None
     return kind.is_variable_str(), kind.get_cset()
+
+
+def test_low_level_datasets_are_the_ones_h5py_creates(tmp_path):
+    """The writer's contiguous numeric datasets (:func:`rolling_cli.writer._contiguous`) have the
+    type, shape, layout, fill value and creation properties of ``create_dataset``'s."""
+    from rolling_cli.writer import _contiguous
+
+    def properties(ds) -> tuple:
+        dcpl = ds.id.get_create_plist()
+        fill = np.zeros((), dtype=ds.dtype)
+        dcpl.get_fill_value(fill)
+        return (
+            ds.dtype.str, ds.shape, ds.maxshape, ds.chunks, dcpl.get_layout(), dcpl.get_alloc_time(),
+            dcpl.get_fill_time(), dcpl.fill_value_defined(), fill.tobytes(), dcpl.get_obj_track_times(),
+            dcpl.get_attr_creation_order(), ds.id.get_type().get_order(), ds.id.get_type().get_size(),
+        )  # fmt: skip
+
+    kinds = [(np.dtype("f8"), np.nan, (1, 7)), (np.dtype("i8"), -1, (3,)), (np.dtype("i1"), np.int8(-1), (2, 5))]
+    with h5py.File(tmp_path / "d.h5", "w", libver=("earliest", "v108")) as handle:
+        for i, (dtype, fill, shape) in enumerate(kinds):
+            for early, never in ((True, False), (True, True)):
+                dcpls = []
+                for _ in range(2):
+                    dcpl = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
+                    if early:
+                        dcpl.set_alloc_time(h5py.h5d.ALLOC_TIME_EARLY)
+                    if never:
+                        dcpl.set_fill_time(h5py.h5d.FILL_TIME_NEVER)
+                    dcpls.append(dcpl)
+                name = f"v{i}{int(never)}"
+                ours = _contiguous(handle, "ours_" + name, shape, dtype, fill, dcpls[0])
+                theirs = handle.create_dataset(
+                    "theirs_" + name, shape=shape, dtype=dtype, fillvalue=fill, dcpl=dcpls[1], track_times=False
+                )
+                assert ours.id.get_type() == theirs.id.get_type(), name
+                assert properties(ours) == properties(theirs), name
+                if not never:  # the fill, as written
+                    assert np.array_equal(ours[()], theirs[()], equal_nan=True), name
