@@ -29,7 +29,7 @@ Tables printed:
    its finest error CONTACT's time is more than its 1600-element time (">",
    the ratio a lower bound).
 
-    python benchmarks/startup.py [--repeats 5] [--tree NAME=DIR ...] [--quick]
+    python benchmarks/startup.py [--repeats 5] [--tree NAME=DIR ...] [--quick] [--only-startup]
 """
 
 from __future__ import annotations
@@ -74,9 +74,17 @@ TARGETS = [1e-2, 7e-3, 5e-3, 3.5e-3, 2e-3, 1e-3, 5e-4]
 TARGET_RATIO = 20.0
 
 
+#: The console script's body (``rollc``: ``from rolling_cli.cli import entry; sys.exit(entry())``), run
+#: with ``-c`` so that every tree runs its own entry point: ``entry`` where the tree has one (the quick
+#: exit), else the click group ``main`` (the trees before it).
+LAUNCHER = (
+    "import re, sys; sys.argv[0] = 'rollc'; import rolling_cli.cli as cli; sys.exit(getattr(cli, 'entry', cli.main)())"
+)
+
+
 def rollc_command() -> list[str]:
-    exe = Path(sys.executable).with_name("rollc")
-    return [str(exe)] if exe.exists() else [sys.executable, "-m", "rolling_cli"]
+    """``rollc`` as the console script runs it, for whichever tree ``PYTHONPATH`` selects."""
+    return [sys.executable, "-c", LAUNCHER]
 
 
 def child_environment() -> dict:
@@ -234,12 +242,14 @@ def comparison(repeats: int, quick: bool) -> list[dict]:
     return rows
 
 
-def print_tables(startup: list[dict], imports: tuple, compare: list[dict], repeats: int) -> None:
+def print_tables(startup: list[dict], imports: tuple | None, compare: list[dict] | None, repeats: int) -> None:
     print(f"\n## Whole process, median of {repeats} (interleaved), OPENBLAS_NUM_THREADS=1\n")
     print("| command | tree | median [s] | fastest [s] | peak RSS [MB] |")
     print("|---|---|---:|---:|---:|")
     for r in startup:
         print(f"| {r['command']} | {r['tree']} | {r['median']:.3f} | {r['fastest']:.3f} | {r['rss']:.0f} |")
+    if imports is None:
+        return
     top, grouped, total = imports
     print(f"\n## Imports of the Carter solve (-X importtime, median of {repeats}): total {total:.0f} ms\n")
     print("| module | self [ms] | cumulative [ms] |")
@@ -307,10 +317,14 @@ def main() -> None:
         "--tree", action="append", default=[], help="NAME=DIR: a source tree of the package to compare with"
     )
     parser.add_argument("--quick", action="store_true", help="fewer meshes in the comparison (a smoke run)")
+    parser.add_argument("--only-startup", action="store_true", help="table 1 only (the whole-process times)")
     args = parser.parse_args()
     os.environ.update(SINGLE_THREAD_ENV)  # accuracy_cost.rollc passes this environment on
     os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
     startup = startup_table(args.repeats, dict(item.split("=", 1) for item in args.tree))
+    if args.only_startup:
+        print_tables(startup, None, None, args.repeats)
+        return
     imports = import_costs(args.repeats)
     compare = comparison(args.repeats, args.quick)
     print_tables(startup, imports, compare, args.repeats)

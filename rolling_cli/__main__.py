@@ -1,5 +1,5 @@
 """``python -m rolling_cli`` is ``rollc``."""
 
-from .cli import main
+from .cli import entry
 
-main()
+entry()

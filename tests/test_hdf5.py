@@ -236,3 +236,88 @@ def test_files_honour_the_umask(tmp_path):
     finally:
         os.umask(old)
     assert (os.stat(tmp_path / "r.h5").st_mode & 0o777) == 0o640
+
+
+def test_low_level_attributes_are_the_ones_h5py_writes(tmp_path):
+    """The writer's attribute path (:func:`rolling_cli.writer._set_attrs`, types derived once) gives
+    every attribute the HDF5 type, shape and value that ``obj.attrs[name] = value`` gives, replaces an
+    existing one, and leaves other kinds of value (bool, lists) to h5py."""
+    from rolling_cli.writer import _set_attrs
+
+    values = {
+        "text": "contact half-width",
+        "unicode": "Young's modulus E [N/mm²], µ",
+        "empty": "",
+        "int": 7,
+        "float": -2.5e-300,
+        "int8": np.int8(1),
+        "int32": np.int32(-3),
+        "int64": np.int64(1 << 40),
+        "uint": np.uint16(9),
+        "float32": np.float32(0.1),
+        "array_i1": np.array([0, 1, 2], dtype=np.int8),
+        "array_i4": np.array([[1, 2], [3, 4]], dtype=np.int32),
+        "array_f8": np.linspace(0.0, 1.0, 5),
+        "bool": True,
+        "list": [1.0, 2.0],
+    }
+    with h5py.File(tmp_path / "a.h5", "w") as handle:
+        ours, theirs = handle.create_group("ours"), handle.create_group("theirs")
+        _set_attrs(ours, {"int": "replaced below"})
+        _set_attrs(ours, values)
+        for name, value in values.items():
+            theirs.attrs[name] = value
+        assert list(ours.attrs) == list(theirs.attrs)
+        for name in values:
+            a = h5py.h5a.open(ours.id, name.encode())
+            b = h5py.h5a.open(theirs.id, name.encode())
+            assert a.get_type() == b.get_type(), name  # H5Tequal: class, size, sign, order
+            assert _string_kind(a) == _string_kind(b) and a.shape == b.shape, name
+            mine, reference = ours.attrs[name], theirs.attrs[name]
+            assert type(mine) is type(reference) and np.array_equal(mine, reference), name
+
+
+def _string_kind(attr) -> tuple | None:
+    """Variable length and character set of a string attribute's type (H5Tequal ignores the set)."""
+    kind = attr.get_type()
+    if kind.get_class() != h5py.h5t.STRING:
+        return None
+    return kind.is_variable_str(), kind.get_cset()
+
+
+def test_low_level_datasets_are_the_ones_h5py_creates(tmp_path):
+    """The writer's contiguous numeric datasets (:func:`rolling_cli.writer._contiguous`) have the
+    type, shape, layout, fill value and creation properties of ``create_dataset``'s."""
+    from rolling_cli.writer import _contiguous
+
+    def properties(ds) -> tuple:
+        dcpl = ds.id.get_create_plist()
+        fill = np.zeros((), dtype=ds.dtype)
+        dcpl.get_fill_value(fill)
+        return (
+            ds.dtype.str, ds.shape, ds.maxshape, ds.chunks, dcpl.get_layout(), dcpl.get_alloc_time(),
+            dcpl.get_fill_time(), dcpl.fill_value_defined(), fill.tobytes(), dcpl.get_obj_track_times(),
+            dcpl.get_attr_creation_order(), ds.id.get_type().get_order(), ds.id.get_type().get_size(),
+        )  # fmt: skip
+
+    kinds = [(np.dtype("f8"), np.nan, (1, 7)), (np.dtype("i8"), -1, (3,)), (np.dtype("i1"), np.int8(-1), (2, 5))]
+    with h5py.File(tmp_path / "d.h5", "w", libver=("earliest", "v108")) as handle:
+        for i, (dtype, fill, shape) in enumerate(kinds):
+            for early, never in ((True, False), (True, True)):
+                dcpls = []
+                for _ in range(2):
+                    dcpl = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
+                    if early:
+                        dcpl.set_alloc_time(h5py.h5d.ALLOC_TIME_EARLY)
+                    if never:
+                        dcpl.set_fill_time(h5py.h5d.FILL_TIME_NEVER)
+                    dcpls.append(dcpl)
+                name = f"v{i}{int(never)}"
+                ours = _contiguous(handle, "ours_" + name, shape, dtype, fill, dcpls[0])
+                theirs = handle.create_dataset(
+                    "theirs_" + name, shape=shape, dtype=dtype, fillvalue=fill, dcpl=dcpls[1], track_times=False
+                )
+                assert ours.id.get_type() == theirs.id.get_type(), name
+                assert properties(ours) == properties(theirs), name
+                if not never:  # the fill, as written
+                    assert np.array_equal(ours[()], theirs[()], equal_nan=True), name

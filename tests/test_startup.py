@@ -8,10 +8,12 @@ imported cannot pass by accident (for instance a broken recorder).
 """
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
@@ -90,3 +92,156 @@ def test_bem_cache_hit_imports_no_bem(tmp_path, monkeypatch):
     modules = _run(tmp_path, *args, "second.h5")
     assert (tmp_path / "second.h5").is_file()
     assert not _loaded(modules, "rolling_cli.influence.bem")
+
+
+def _rollc(tmp_path: Path, *args: str) -> subprocess.CompletedProcess:
+    """``python -m rolling_cli *args`` (the console script's entry, :func:`rolling_cli.cli.entry`)."""
+    return subprocess.run([sys.executable, "-m", "rolling_cli", *args], cwd=tmp_path, capture_output=True, text=True)
+
+
+def test_entry_quick_exit_keeps_output_file_and_exit_codes(tmp_path):
+    """The console entry ends the process without the interpreter's teardown: what a command prints
+    must still reach a pipe, its file must be complete, and its exit code must be kept."""
+    import rolling_cli
+
+    done = _rollc(tmp_path, "solve", str(CASES / "carter.toml"), "-o", "r.h5")
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.rstrip().endswith("written        r.h5")  # the summary's last line, flushed
+    written = rolling_cli.read_result(tmp_path / "r.h5")
+    direct = rolling_cli.solve(rolling_cli.load_case(CASES / "carter.toml"))
+    # the same solve in this process: the file holds every node's tractions (written, closed, flushed)
+    assert np.array_equal(written.p_n, direct.p_n) and np.array_equal(written.p_t, direct.p_t)
+    assert written.attributes["converged"]
+    bad = _rollc(tmp_path, "solve", str(tmp_path / "missing.toml"))
+    assert bad.returncode == 2 and bad.stderr.startswith("error: ") and not bad.stdout
+    version = _rollc(tmp_path, "--version")
+    assert version.returncode == 0 and version.stdout.startswith("rollc, version")
+    usage = _rollc(tmp_path, "solve")  # click's usage error: its own exit code
+    assert usage.returncode == 2 and "Missing argument" in usage.stderr
+
+
+_SAFE = """
+import sys, threading
+import h5py
+from rolling_cli import cli
+states = [cli._fast_exit_safe()]
+handle = h5py.File(sys.argv[1], "w")
+states.append(cli._fast_exit_safe())
+handle.close()
+stop = threading.Event()
+worker = threading.Thread(target=stop.wait)
+worker.start()
+states.append(cli._fast_exit_safe())
+stop.set()
+worker.join()
+states.append(cli._fast_exit_safe())
+import multiprocessing  # noqa: F401
+states.append(cli._fast_exit_safe())
+print(states)
+"""
+
+
+def test_quick_exit_only_when_the_process_is_quiet(tmp_path):
+    """No quick exit while an HDF5 file is open, another thread runs or worker machinery is loaded."""
+    done = subprocess.run([sys.executable, "-c", _SAFE, str(tmp_path / "f.h5")], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[True, False, False, True, False]"
+
+
+_GC = """
+import atexit, gc, json, sys
+from rolling_cli import cli, pipeline
+seen = []
+original = pipeline.solve
+def solve(*args, **kwargs):
+    seen.append(gc.isenabled())
+    return original(*args, **kwargs)
+pipeline.solve = solve
+report = lambda: print(json.dumps({"during_solve": seen, "frozen": gc.get_freeze_count(), "after": gc.isenabled()}))
+atexit.register(report)
+sys.argv = ["rollc", "-q", "solve", sys.argv[1], "-o", "r.h5"]
+cli.entry()
+"""
+
+
+def test_entry_collects_garbage_again_once_the_command_has_imported(tmp_path):
+    """The console entry turns garbage collection off for the start-up's imports only: the solve
+    itself runs with it on (the imports' objects frozen out of its reach)."""
+    done = subprocess.run(
+        [sys.executable, "-c", _GC, str(CASES / "carter.toml")], cwd=tmp_path, capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    state = json.loads(done.stdout)
+    assert state["during_solve"] == [True] and state["after"]
+    assert state["frozen"] > 1000  # the modules' objects (numpy, h5py, the package): tens of thousands
+
+
+_CLASSES = """
+import dataclasses, json, sys
+from rolling_cli import _codecache
+if sys.argv[1] == "table":
+    _codecache.install()
+import rolling_cli.case.schema as schema
+import rolling_cli.result as result
+import rolling_cli.solver.formulation as formulation
+from rolling_cli.case import load_case
+methods = {}
+for module in (schema, result, formulation):
+    for cls in vars(module).values():
+        if isinstance(cls, type) and dataclasses.is_dataclass(cls) and cls.__module__ == module.__name__:
+            for name in ("__init__", "__repr__", "__eq__", "__hash__", "__setattr__", "__delattr__"):
+                code = getattr(cls.__dict__.get(name), "__code__", None)
+                if code is not None:
+                    methods[f"{cls.__qualname__}.{name}"] = [
+                        code.co_code.hex(), repr(code.co_consts), code.co_names, code.co_varnames,
+                        code.co_filename, code.co_flags, code.co_argcount, code.co_kwonlyargcount,
+                    ]
+case = load_case(sys.argv[2])
+try:
+    case.title = "changed"
+    frozen = False
+except dataclasses.FrozenInstanceError:
+    frozen = True
+same = case == load_case(sys.argv[2]) and hash(case) == hash(load_case(sys.argv[2]))
+print(json.dumps({"methods": methods, "repr": repr(case), "frozen": frozen, "same": same,
+                  "compiled": _codecache._added, "path": _codecache.table_path()}))
+"""
+
+
+def _classes(tmp_path: Path, mode: str, **env: str) -> dict:
+    """The generated methods (bytecode, constants, names, flags) of the package's dataclasses in a
+    fresh interpreter, with (``mode="table"``) or without the compiled-code table."""
+    environment = {**os.environ, "PYTHONPYCACHEPREFIX": str(tmp_path / "pycache"), "PYTHONHASHSEED": "0", **env}
+    if not env.get("PYTHONDONTWRITEBYTECODE"):
+        environment.pop("PYTHONDONTWRITEBYTECODE", None)
+    args = [sys.executable, "-c", _CLASSES, mode, str(CASES / "carter.toml")]
+    done = subprocess.run(args, capture_output=True, text=True, env=environment)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+def test_dataclass_table_gives_the_classes_dataclasses_makes(tmp_path):
+    """The compiled-code table (:mod:`rolling_cli._codecache`) changes nothing in the classes: the
+    same generated methods, repr, equality, hash and frozenness as ``@dataclass`` alone, when it is
+    filled, when it is read back, and when its file is damaged (then it is ignored and rewritten)."""
+    from rolling_cli import _codecache
+
+    plain = _classes(tmp_path, "plain")
+    assert len(plain["methods"]) > 60 and plain["frozen"] and plain["same"]  # the check sees real classes
+    first = _classes(tmp_path, "table")
+    table = Path(first["path"])
+    assert first["compiled"] and table.is_file() and str(tmp_path) in str(table)
+    second = _classes(tmp_path, "table")
+    assert not second["compiled"]  # every text came from the file
+    table.write_bytes(_codecache.MAGIC + b"damaged")
+    damaged = _classes(tmp_path, "table")
+    assert damaged["compiled"] and table.read_bytes()[4:] != b"damaged"
+    for run in (first, second, damaged):
+        for key in ("methods", "repr", "frozen", "same"):
+            assert run[key] == plain[key], key
+
+
+def test_dataclass_table_is_not_written_without_bytecode_writing(tmp_path):
+    """Like the .pyc files: under PYTHONDONTWRITEBYTECODE the table is used but never written."""
+    run = _classes(tmp_path, "table", PYTHONDONTWRITEBYTECODE="1")
+    assert run["compiled"] and not Path(run["path"]).exists()
