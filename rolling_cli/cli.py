@@ -425,20 +425,16 @@ def _fast_exit_safe() -> bool:
 def entry() -> None:
     """The ``rollc`` console script (and ``python -m rolling_cli``): :func:`main`, then a quick exit.
 
-    The methods ``@dataclass`` generates for the package's classes come compiled from a table kept
-    beside the bytecode (:mod:`rolling_cli._codecache`). Garbage collection is off until the command
-    has imported its modules (:func:`_imported`): the imports of a half-plane solve would trigger ~60
-    collections, ~10 ms, freeing ~300 objects. The interpreter's teardown (freeing every module of
-    numpy, h5py and the package one by one) costs ~20-30 ms, a tenth of a half-plane solve's whole
-    process, and does nothing a finished command needs. So once the command has returned, with the
-    process quiet (:func:`_fast_exit_safe`), the exit handlers run (``atexit``: logging's flush,
-    h5py's), stdout and stderr are flushed and the process ends with the command's exit code
-    (``os._exit``). Otherwise, or when a flush fails (a closed pipe), Python exits the usual way.
-    :func:`main` itself never ends the process early: it stays callable from Python and from tests.
+    Garbage collection is off until the command has imported its modules (:func:`_imported`): the
+    imports of a half-plane solve would trigger ~60 collections, ~10 ms, freeing ~300 objects. The
+    interpreter's teardown (freeing every module of numpy, h5py and the package one by one) costs
+    ~20-30 ms, a tenth of a half-plane solve's whole process, and does nothing a finished command
+    needs. So once the command has returned, with the process quiet (:func:`_fast_exit_safe`), the
+    exit handlers run (``atexit``: logging's flush, h5py's), stdout and stderr are flushed and the
+    process ends with the command's exit code (``os._exit``). Otherwise, or when a flush fails (a
+    closed pipe), Python exits the usual way. :func:`main` itself never ends the process early: it
+    stays callable from Python and from tests.
     """
-    from . import _codecache
-
-    _codecache.install()  # the dataclasses' generated methods compiled once per install, not per start
     gc.disable()  # until the command's imports are done (_imported): they are most of its collections
     try:
         main()

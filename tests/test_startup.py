@@ -8,7 +8,6 @@ imported cannot pass by accident (for instance a broken recorder).
 """
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -174,74 +173,3 @@ def test_entry_collects_garbage_again_once_the_command_has_imported(tmp_path):
     state = json.loads(done.stdout)
     assert state["during_solve"] == [True] and state["after"]
     assert state["frozen"] > 1000  # the modules' objects (numpy, h5py, the package): tens of thousands
-
-
-_CLASSES = """
-import dataclasses, json, sys
-from rolling_cli import _codecache
-if sys.argv[1] == "table":
-    _codecache.install()
-import rolling_cli.case.schema as schema
-import rolling_cli.result as result
-import rolling_cli.solver.formulation as formulation
-from rolling_cli.case import load_case
-methods = {}
-for module in (schema, result, formulation):
-    for cls in vars(module).values():
-        if isinstance(cls, type) and dataclasses.is_dataclass(cls) and cls.__module__ == module.__name__:
-            for name in ("__init__", "__repr__", "__eq__", "__hash__", "__setattr__", "__delattr__"):
-                code = getattr(cls.__dict__.get(name), "__code__", None)
-                if code is not None:
-                    methods[f"{cls.__qualname__}.{name}"] = [
-                        code.co_code.hex(), repr(code.co_consts), code.co_names, code.co_varnames,
-                        code.co_filename, code.co_flags, code.co_argcount, code.co_kwonlyargcount,
-                    ]
-case = load_case(sys.argv[2])
-try:
-    case.title = "changed"
-    frozen = False
-except dataclasses.FrozenInstanceError:
-    frozen = True
-same = case == load_case(sys.argv[2]) and hash(case) == hash(load_case(sys.argv[2]))
-print(json.dumps({"methods": methods, "repr": repr(case), "frozen": frozen, "same": same,
-                  "compiled": _codecache._added, "path": _codecache.table_path()}))
-"""
-
-
-def _classes(tmp_path: Path, mode: str, **env: str) -> dict:
-    """The generated methods (bytecode, constants, names, flags) of the package's dataclasses in a
-    fresh interpreter, with (``mode="table"``) or without the compiled-code table."""
-    environment = {**os.environ, "PYTHONPYCACHEPREFIX": str(tmp_path / "pycache"), "PYTHONHASHSEED": "0", **env}
-    if not env.get("PYTHONDONTWRITEBYTECODE"):
-        environment.pop("PYTHONDONTWRITEBYTECODE", None)
-    args = [sys.executable, "-c", _CLASSES, mode, str(CASES / "carter.toml")]
-    done = subprocess.run(args, capture_output=True, text=True, env=environment)
-    assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout)
-
-
-def test_dataclass_table_gives_the_classes_dataclasses_makes(tmp_path):
-    """The compiled-code table (:mod:`rolling_cli._codecache`) changes nothing in the classes: the
-    same generated methods, repr, equality, hash and frozenness as ``@dataclass`` alone, when it is
-    filled, when it is read back, and when its file is damaged (then it is ignored and rewritten)."""
-    from rolling_cli import _codecache
-
-    plain = _classes(tmp_path, "plain")
-    assert len(plain["methods"]) > 60 and plain["frozen"] and plain["same"]  # the check sees real classes
-    first = _classes(tmp_path, "table")
-    table = Path(first["path"])
-    assert first["compiled"] and table.is_file() and str(tmp_path) in str(table)
-    second = _classes(tmp_path, "table")
-    assert not second["compiled"]  # every text came from the file
-    table.write_bytes(_codecache.MAGIC + b"damaged")
-    damaged = _classes(tmp_path, "table")
-    assert damaged["compiled"] and table.read_bytes()[4:] != b"damaged"
-    for run in (first, second, damaged):
-        for key in ("methods", "repr", "frozen", "same"):
-            assert run[key] == plain[key], key
-
-
-def test_dataclass_table_is_not_written_without_bytecode_writing(tmp_path):
-    """Like the .pyc files: under PYTHONDONTWRITEBYTECODE the table is used but never written."""
-    run = _classes(tmp_path, "table", PYTHONDONTWRITEBYTECODE="1")
-    assert run["compiled"] and not Path(run["path"]).exists()
