@@ -167,8 +167,9 @@ def hertz_applies(case: Case) -> bool:
 
 
 def _settle_cold(case: Case) -> bool:
-    """A closed-form start on a prebuilt system (a sweep's cold case: no pre-solve levels) has its
-    pressure settled before friction enters on a layer under creepage control: there the Hertz
+    """A closed-form start with no pre-solve level before it (a sweep's cold case on its prebuilt
+    system, the retry of a failed warm start, a level after a failed one) has its pressure
+    settled before friction enters on a layer under creepage control: there the Hertz
     pressure is off and Carter's traction for the creepage is full slip, and the coupled Newton
     cycled (tyred_fig11_q41, 21-point creep curve, --no-warm-start: 420 iterations, up to 46 a
     case; settled: 150, up to 8). Measured and not taken: settling every start whose pressure is
@@ -544,7 +545,11 @@ class MeshPath:
         if previous is None:
             usable = self.start is not None and level.kind == "case grid" and level.system is not None
             if usable and self.start.p_n.shape == level.system.x.shape:
-                return self._warm_start(level)
+                t0 = time.perf_counter()
+                try:
+                    return self._warm_start(level)
+                finally:  # choosing the start is solver work: in the result's time_solve
+                    self.timings["solve"] += time.perf_counter() - t0
             return None
         x_to = level.plan.grid.x
         moved = predictor.transfer(previous.solution.state, previous.system.x, x_to, level.case.friction.mu)
@@ -564,9 +569,10 @@ class MeshPath:
         curve of similar cylinders Carter's traction has the discrete solution's stick and slip
         nodes but for one or two, while the secant of the neighbours misplaces the stick/slip
         boundary near full slip, where it moves like the square root of 1 - Q/(mu P) (carter,
-        41 points: 87 Newton iterations cold, 83 from the neighbours alone, 47 with the better
-        of the two tractions). The pressure and overlap stay the neighbours': along a load
-        curve they are the converged ones."""
+        ``rollc sweep --curve load``, 41 points: 87 Newton iterations all cold, 84 with the
+        neighbours' traction alone, 56 with the better of the two, the warm-started cases
+        1.07 a case). The pressure and overlap stay the neighbours': along a load curve they
+        are the converged ones."""
         case, system = level.case, level.system
         task = _task(case, level.plan, system)
         candidates = [self.start]
@@ -644,7 +650,15 @@ class MeshPath:
         t0 = time.perf_counter()
         try:
             restart, level.restart = level.restart, None
-            level.solution = control.solve(task, state, budget, cold=cold, settle=settle, restart=restart)
+            level.solution = control.solve(
+                task,
+                state,
+                budget,
+                cold=cold,
+                settle=settle,
+                restart=restart,
+                restart_settle=restart is not None and _settle_cold(level.case),
+            )
         except ConvergenceError as err:
             level.failure, level.history = err, budget.history
             remesh_event = level.kind in ("case grid", "enlarged zone") and level.touches_edge
@@ -715,7 +729,6 @@ def solve(
             f"{final.case.discretization.contact_elements}, the same element length): the contact reached the "
             "edge of the requested zone"
         )
-        result.case_toml = case_to_toml(final.case)
     if path.adaptation is not None:
         result.attributes.update(path.adaptation.attributes(final.plan.grid))
         disc = dataclasses.replace(final.case.discretization, contact_elements=case.discretization.contact_elements)

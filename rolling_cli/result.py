@@ -48,10 +48,10 @@ class Result:
     attributes: dict = field(default_factory=dict)
     history: list[dict] = field(default_factory=list)
     reference: dict[str, np.ndarray] = field(default_factory=dict)
-    case_toml: str = ""  # the resolved case as TOML (written from ``case`` when first read)
+    case_toml: str | None = None  # the resolved input case as TOML; None: written from ``case`` when first read
     frictional_power: np.ndarray | None = None  # [stress], rolling_cli.stresses.power
     stresses: dict = field(default_factory=dict)  # body label -> rolling_cli.stresses.compute.BodyStresses
-    case: object = field(default=None, repr=False, compare=False)  # the resolved Case, if solved here
+    case: object = field(default=None, repr=False, compare=False)  # the Case of the final mesh level, if solved here
 
     def __getattr__(self, name: str):
         attrs = self.__dict__.get("attributes", {})
@@ -60,15 +60,23 @@ class Result:
         raise AttributeError(name)
 
     def _get_case_toml(self) -> str:
-        text = self.__dict__.get("_case_toml", "")
-        if not text and self.__dict__.get("case") is not None:
-            from .case import case_to_toml
+        text = self.__dict__.get("_case_toml")
+        if text is None:  # not given: written from the case solved, once
+            case = self.__dict__.get("case")
+            if case is None:
+                text = ""
+            else:
+                from .case import case_to_toml
 
-            text = self._case_toml = case_to_toml(self.case)
+                try:
+                    text = case_to_toml(case)
+                except AttributeError as err:  # not to be taken for a missing attribute (__getattr__)
+                    raise RuntimeError(f"the case of this result cannot be written as TOML: {err}") from err
+            self._case_toml = text
         return text
 
-    def _set_case_toml(self, text: str) -> None:
-        self._case_toml = text
+    def _set_case_toml(self, text: str | None) -> None:
+        self._case_toml = None if text is None else str(text)
 
     @property
     def units(self) -> dict[str, str]:
@@ -117,5 +125,7 @@ def node_states(p_n: np.ndarray, stick: np.ndarray) -> np.ndarray:
 
 # The TOML of a solved case is written only when read (a sweep's cases never are: the sweep file
 # holds the base case and the swept values): a property over the dataclass field, set after the
-# class is made so that the field keeps its default "" in __init__.
+# class is made so that the field keeps its default (None: not written yet) in __init__. Where the
+# input case differs from the final level's (a zone enlarged, an adaptive mesh), the pipeline sets
+# the TOML itself.
 Result.case_toml = property(Result._get_case_toml, Result._set_case_toml)

@@ -25,13 +25,21 @@ ADVICE = {
 
 
 def solve(
-    task: Task, start: State, budget: Budget, *, cold: bool = False, settle: bool = False, restart: State | None = None
+    task: Task,
+    start: State,
+    budget: Budget,
+    *,
+    cold: bool = False,
+    settle: bool = False,
+    restart: State | None = None,
+    restart_settle: bool = False,
 ) -> Solution:
     """Solve ``task`` from ``start`` (``cold``: a closed-form guess, whose first node states are read
     from the pressure; ``settle``: its pressure is only approximate; ``restart``: for a warm start,
-    the closed-form start tried next if it fails; see :func:`~rolling_cli.solver.strategies.default`).
+    the closed-form start tried next if it fails, ``restart_settle``: with its pressure settled
+    first; see :func:`~rolling_cli.solver.strategies.default`).
     Raises ConvergenceError or GrossSlidingError."""
-    strategy = strategies.default(task, settle, restart)
+    strategy = strategies.default(task, settle, restart, restart_settle)
     try:
         return strategy(task, start, budget, cold=cold)
     except StrategyFailed as err:

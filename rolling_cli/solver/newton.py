@@ -142,7 +142,10 @@ class Watchdog:
         best_x, best = track.best_x, track.best
         best_target_x, best_target = track.best_target
         x, point, alpha, decreased = _backtrack(system, best_x, best, best_target_x, best_target, self.backtracks)
-        if not decreased or alpha < self.retrace:
+        if not decreased:
+            raise _Stagnation
+        if alpha < self.retrace:  # the decrease found is kept as the best iterate handed on
+            track.best_x, track.best = x, point
             raise _Stagnation
         return x, point, -alpha  # negative: a step taken from the best iterate, not the last one
 

@@ -230,18 +230,18 @@ def _tangential(task: Task, state: State, budget: Budget, strategy: str, globali
         return _creep_root(problem, task, best, budget, globalisation)
 
 
-def settled(task: Task, start: State, budget: Budget, cold: bool = False, globalisation=None) -> Solution:
+def settled(
+    task: Task, start: State, budget: Budget, cold: bool = False, globalisation=None, name: str = "settled"
+) -> Solution:
     """Coupled: the normal problem with p_t = 0 first, then the coupled system (module docstring)."""
     state = task.prepared(start)
     guess = state.p_t
     state.p_t = np.zeros_like(guess)
     normal = run_newton(
-        task.problem("normal"), state, task.tolerance, budget, "settled", "normal (p_t = 0)", cold, globalisation
+        task.problem("normal"), state, task.tolerance, budget, name, "normal (p_t = 0)", cold, globalisation
     )
     state = _clip_to_friction(normal.state, guess, task.mu)
-    return run_newton(
-        task.problem("coupled"), state, task.tolerance, budget, "settled", "coupled", False, globalisation
-    )
+    return run_newton(task.problem("coupled"), state, task.tolerance, budget, name, "coupled", False, globalisation)
 
 
 def scaled_coupling(system: ContactSystem, kappa: float) -> ContactSystem:
@@ -488,7 +488,9 @@ def restarted(strategy: Strategy, start: State) -> Strategy:
     return bound
 
 
-def default(task: Task, settle: bool = False, restart: State | None = None) -> Strategy:
+def default(
+    task: Task, settle: bool = False, restart: State | None = None, restart_settle: bool = False
+) -> Strategy:
     """The strategy for a task.
 
     Newton on the task's own formulation with the watchdog first (for a coupled
@@ -498,11 +500,12 @@ def default(task: Task, settle: bool = False, restart: State | None = None) -> S
     same again, and for coupled tasks (force control) :func:`creep_root`,
     :func:`settled` and :func:`coupling_path`. Decoupled tasks fall back to the
     creepage root inside their tangential stage. A warm start (a neighbour's
-    prediction) that fails is first retried from the closed-form ``restart``: a
-    neighbour near full slip can hold a stick zone far from the case's, and the
-    watchdog then cycles through the same raised steps (dissimilar_q04's load
-    curve, 21 points, the second: 73 iterations through three strategies; 26
-    with the retry, 20 of them the watchdog's until its patience ran out). The order is measured
+    prediction) that fails is first retried from the closed-form ``restart``
+    (settled first when ``restart_settle``, as a cold start of that case would
+    be): a neighbour near full slip can hold a stick zone far from the case's,
+    and the watchdog then cycles through the same raised steps (dissimilar_q04's
+    load curve, 21 points, the second: 73 iterations through three strategies;
+    12 with the retry and the watchdog's retrace stop). The order is measured
     (benchmarks/RESULTS.md, robustness): the creepage root is what strongly
     coupled low-friction cases near full slip need, the monotone line search what
     the strongly coupled high-friction corner needs.
@@ -510,7 +513,11 @@ def default(task: Task, settle: bool = False, restart: State | None = None) -> S
     first = _with(settled, PATIENT_WATCHDOG) if settle and task.formulation == "coupled" else _with(direct, WATCHDOG)
     chain = [first]
     if restart is not None:  # a warm start: its failure is retried from the closed form first
-        chain.append(restarted(_with(direct, WATCHDOG, "direct, closed-form start"), restart))
+        if restart_settle and task.formulation == "coupled":
+            retry = _with(settled, PATIENT_WATCHDOG, "settled, closed-form start")
+        else:
+            retry = _with(direct, WATCHDOG, "direct, closed-form start")
+        chain.append(restarted(retry, restart))
     chain.append(_with(direct, MONOTONE, "direct, monotone"))
     if task.formulation == "coupled":
         if task.controls.force is not None:
