@@ -305,7 +305,7 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     node - 1, W = NEAR_FIELD, per node 2 coupled): its assembly (B and the assembly's
     temporaries, per unknown), its single-precision factorisation (1.5 B: the double band and its float32
     copy) and GMRES (B / 2, the Arnoldi basis and the preconditioned directions, 2 restart + 1
-    per unknown). Coupled systems add the coarse-grid correction (:mod:`rolling_cli.solver.coarse`,
+    per unknown), and the coarse-grid correction (:mod:`rolling_cli.solver.coarse`,
     C coarse unknowns, at least one per :data:`~rolling_cli.solver.coarse.AGGREGATE` unknowns):
     its assembly (B / 2 and 4 C^2: the corner sums, their difference, the gathered block and the
     coarse matrix) and its LU during GMRES (C^2)."""
@@ -319,7 +319,7 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     restart = krylov.RESTART
     chunk = KRYLOV_ASSEMBLY_TEMPORARIES * size
     fine = int(math.ceil(size))
-    unknowns = math.ceil(fine / coarse.aggregate_nodes(fine, 1)) + 2 if coupled and matrix_free.TWO_LEVEL else 0
+    unknowns = math.ceil(fine / coarse.aggregate_nodes(fine, 1)) + 2 if matrix_free.TWO_LEVEL else 0
     phases = (
         band + chunk,
         1.5 * band,

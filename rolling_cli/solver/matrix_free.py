@@ -29,12 +29,13 @@ of the near field as preconditioner (:mod:`rolling_cli.solver.near_field`):
 The far field the band leaves out grows (slowly) with the grid, and so do the
 Krylov iterations per Newton step: ~60 at 10,000 nodes, a few hundred at
 30,000, and at 100,000 nodes a coupled system no longer converges in
-GMRES(100) with the band alone. Coupled systems (:data:`TWO_LEVEL`) therefore
-add a coarse-grid correction after the band (:mod:`rolling_cli.solver.coarse`:
-aggregates of ~24 unknowns, the exact Galerkin coarse matrix from corner sums
-of the influence operators, a dense LU per Newton step): ~6 iterations per
-step at 10,000 nodes, ~17 at 100,000 (benchmarks/RESULTS.md). Decoupled
-systems (similar bodies) keep the band alone.
+GMRES(100) with the band alone. The preconditioner (:data:`TWO_LEVEL`)
+therefore adds a coarse-grid correction after the band
+(:mod:`rolling_cli.solver.coarse`: aggregates of ~24 unknowns, the exact
+Galerkin coarse matrix from corner sums of the influence operators, a dense LU
+per Newton step): the coupled dissimilar case takes ~6 iterations per step at
+10,000 nodes and ~17 at 100,000; Carter's decoupled stages 10 and 12 (44 and
+134 with the band alone), 0.34 -> 0.15 s and 7.1 -> 2.5 s (benchmarks/RESULTS.md).
 
 GMRES stops when the largest scaled residual component is at most the
 round-off floor of the system (:func:`~rolling_cli.solver.formulation.roundoff_floor`,
@@ -76,9 +77,8 @@ FORCING_FROM = 1e-2
 #: (:meth:`ReducedOperator.solve_dense`), and above it fails (numpy.linalg.LinAlgError).
 STAGNATION_ALLOWANCE = 10.0
 DENSE_FALLBACK = 4000
-#: Coupled systems (the normal and tangential problems together) add the coarse-grid correction of
-#: :mod:`rolling_cli.solver.coarse` to the near-field preconditioner; decoupled ones (similar
-#: bodies) keep the band alone.
+#: The coarse-grid correction of :mod:`rolling_cli.solver.coarse` after the near-field band (False:
+#: the band alone, ``benchmarks/bench_solve.py --preconditioner band``).
 TWO_LEVEL = True
 
 
@@ -247,11 +247,11 @@ class ReducedOperator:
 
     def preconditioner(self, apply):
         """The right preconditioner of GMRES for the scaled product ``apply``: the near-field band
-        (:mod:`~rolling_cli.solver.near_field`) and, for coupled systems when :data:`TWO_LEVEL`,
-        the coarse-grid correction after it (:func:`rolling_cli.solver.coarse.two_level`; the band
+        (:mod:`~rolling_cli.solver.near_field`) and, when :data:`TWO_LEVEL`, the coarse-grid
+        correction after it (:func:`rolling_cli.solver.coarse.two_level`; the band
         alone if the coarse system is singular)."""
         band = near_field.preconditioner(self, NEAR_FIELD)
-        if not (TWO_LEVEL and self.problem.system.coupled):
+        if not TWO_LEVEL:
             return band
         try:
             return coarse.two_level(apply, band, coarse.CoarseCorrection(self, apply))
