@@ -861,13 +861,14 @@ def coupling_strength(system: ContactSystem) -> float | None:
     return abs_max(system.B_tn, rows) / abs_max(system.B_tt, rows)
 
 
-def _linear_solver_attributes(system: ContactSystem) -> dict:
-    """``linear_solver`` and, matrix-free, the Krylov counts (:func:`.solver.matrix_free.result_attributes`)."""
+def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dict:
+    """``linear_solver`` and, matrix-free, this solve's Krylov counts from its Newton history
+    (:func:`.solver.matrix_free.result_attributes`)."""
     if not system.matrix_free:
         return {"linear_solver": system.linear_solver}
     from .solver import matrix_free
 
-    return matrix_free.result_attributes(system)
+    return matrix_free.result_attributes(system, history)
 
 
 def assemble(level: Level, history: list[dict], timings: dict, converged: bool = True) -> Result:
@@ -949,7 +950,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "contact_elements": the_plan.grid.elements,
         "effects": effects.to_json(),
         "coupling_strength": strength or 0.0,
-        **_linear_solver_attributes(system),
+        **_linear_solver_attributes(system, history),
         "effects_line": effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,

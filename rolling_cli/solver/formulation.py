@@ -535,7 +535,9 @@ def state_from_solution(problem: Problem, state: State, reduced: ReducedSystem, 
     return new
 
 
-def solve_reduced(reduced: ReducedSystem, rhs: np.ndarray, residual: float | None = None) -> np.ndarray:
+def solve_reduced(
+    reduced: ReducedSystem, rhs: np.ndarray, residual: float | None = None, record: dict | None = None
+) -> np.ndarray:
     """The solution z of ``reduced.matrix`` z = ``rhs``.
 
     A dense matrix: LU (:func:`~rolling_cli.solver.linalg.solve_dense`). A matrix-free
@@ -543,21 +545,24 @@ def solve_reduced(reduced: ReducedSystem, rhs: np.ndarray, residual: float | Non
     to the accuracy a dense LU reaches or, for a Newton step from an iterate of relative
     residual ``residual``, to the forcing target of an inexact Newton method
     (:func:`~rolling_cli.solver.matrix_free.forcing_target`), starting from that iterate.
+    ``record`` (optional dict) receives a Krylov solve's counts (history columns).
     """
     if isinstance(reduced.matrix, np.ndarray):
         return solve_dense(reduced.matrix, rhs)
     if residual is None:
-        return reduced.matrix.solve(rhs)
+        return reduced.matrix.solve(rhs, record=record)
     from .matrix_free import forcing_target
 
-    return reduced.matrix.solve(rhs, reduced.matrix.guess, forcing_target(residual))
+    return reduced.matrix.solve(rhs, reduced.matrix.guess, forcing_target(residual), record=record)
 
 
-def newton_point(problem: Problem, state: State, ev: Evaluation) -> State:
+def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | None = None) -> State:
     """The Newton point: the solution of the linear system of the current node states (exact, or
-    on a matrix-free system to the forcing target of :func:`solve_reduced`)."""
+    on a matrix-free system to the forcing target of :func:`solve_reduced`). ``record`` receives
+    the linear solve's counts (Krylov only), for the step's history row."""
     reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
-    return state_from_solution(problem, state, reduced, solve_reduced(reduced, reduced.rhs, ev.relative_residual))
+    dz = solve_reduced(reduced, reduced.rhs, ev.relative_residual, record)
+    return state_from_solution(problem, state, reduced, dz)
 
 
 def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:

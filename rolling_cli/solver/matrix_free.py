@@ -47,7 +47,6 @@ iterations.
 from __future__ import annotations
 
 import logging
-import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -261,23 +260,32 @@ class ReducedOperator:
 
     # --- the solve ------------------------------------------------------------------------------
 
-    def solve(self, rhs: np.ndarray, start: np.ndarray | None = None, target: float | None = None) -> np.ndarray:
+    def solve(
+        self,
+        rhs: np.ndarray,
+        start: np.ndarray | None = None,
+        target: float | None = None,
+        record: dict | None = None,
+    ) -> np.ndarray:
         """z with A z = rhs to ``target`` (default :attr:`target`; module docstring); raises
-        LinAlgError when GMRES fails."""
+        LinAlgError when GMRES fails. ``record`` (a dict, optional) receives this solve's
+        counts, ``krylov_iterations`` and ``krylov_dense_fallbacks`` (1 when the stalled
+        GMRES was redone by dense LU): the Newton step's history columns."""
         if self.shape[0] == 0:
             return np.zeros(0)
         target = self.target if target is None else max(self.target, target)
         scale = self.row_scale
+        record = {} if record is None else record
 
         def apply(z):
             return scale * (self @ z)
 
         result = krylov.gmres(apply, scale * rhs, self.preconditioner(apply), target, start=start)
-        _record(self.problem.system, result.iterations)
+        record.update(krylov_iterations=result.iterations, krylov_dense_fallbacks=0)
         if not result.residual <= STAGNATION_ALLOWANCE * target:
             if self.shape[0] <= DENSE_FALLBACK:
                 log.debug("Krylov stalled at %.2e: dense LU of the %d unknowns", result.residual, self.shape[0])
-                _record(self.problem.system, 0, fallback=True)
+                record["krylov_dense_fallbacks"] = 1
                 return self.solve_dense(rhs)
             raise np.linalg.LinAlgError(
                 f"the Krylov solve of the Newton system stalled at a relative residual {result.residual:.2e} "
@@ -391,47 +399,20 @@ def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluatio
     return ReducedSystem(operator, rhs, sets, coef, p_t_slip, col_overlap, col_creep, creep_column)
 
 
-# --- statistics per system (result attributes) ---------------------------------------------------
-
-_STATISTICS: dict[int, tuple] = {}
+# --- statistics of one solve (result attributes) -------------------------------------------------
 
 
-def _record(system, iterations: int, fallback: bool = False) -> None:
-    key = id(system)
-    found = _STATISTICS.get(key)
-    if found is None or found[0]() is not system:
-        if len(_STATISTICS) > 32:
-            _STATISTICS.clear()
-        found = (weakref.ref(system), {"solves": 0, "iterations": 0, "largest": 0, "dense": 0})
-        _STATISTICS[key] = found
-    stats = found[1]
-    if fallback:
-        stats["dense"] += 1
-        return
-    stats["solves"] += 1
-    stats["iterations"] += iterations
-    stats["largest"] = max(stats["largest"], iterations)
-
-
-def result_attributes(system) -> dict:
+def result_attributes(system, history: list[dict]) -> dict:
     """Result attributes of the linear solver: ``linear_solver`` ("dense LU" or "Krylov") and, for
-    Krylov, ``krylov_solves``, ``krylov_iterations`` and ``krylov_dense_fallbacks`` (stalled
-    solves redone by dense LU) on this system so far."""
-    attrs = {"linear_solver": system.linear_solver}
+    Krylov, ``krylov_solves`` (Newton steps solved by GMRES), ``krylov_iterations`` (their GMRES
+    iterations) and ``krylov_dense_fallbacks`` (stalled solves redone by dense LU), summed over
+    the Newton history of this solve (the columns :meth:`ReducedOperator.solve` records)."""
+    attrs: dict = {"linear_solver": system.linear_solver}
     if system.matrix_free:
-        found = statistics(system)
+        steps = [row for row in history if "krylov_iterations" in row]
         attrs.update(
-            krylov_solves=found["solves"],
-            krylov_iterations=found["iterations"],
-            krylov_dense_fallbacks=found["dense"],
+            krylov_solves=len(steps),
+            krylov_iterations=int(sum(row["krylov_iterations"] for row in steps)),
+            krylov_dense_fallbacks=int(sum(row.get("krylov_dense_fallbacks", 0) for row in steps)),
         )
     return attrs
-
-
-def statistics(system) -> dict[str, int]:
-    """Krylov solves on ``system`` so far: {"solves", "iterations" (total), "largest", "dense" (fallbacks)}
-    (zeros if none)."""
-    found = _STATISTICS.get(id(system))
-    if found is None or found[0]() is not system:
-        return {"solves": 0, "iterations": 0, "largest": 0, "dense": 0}
-    return dict(found[1])

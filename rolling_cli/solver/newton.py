@@ -8,7 +8,10 @@ unknown vector x:
   decreases), plus whatever the other two functions need;
 * ``step(x, point)`` -> the Newton point x + dx (the solution of the linearised
   system at x, for a generalised Jacobian chosen by the caller);
-* ``describe(x, point)`` -> a dict of extra history columns.
+* ``describe(x, point)`` -> a dict of extra history columns;
+* optionally ``step_columns()`` -> a dict of history columns of the last step
+  (for example the linear solver's iterations), added to the row of the
+  iterate the step started from.
 
 :func:`newton` iterates from a start, takes every iteration from a shared
 :class:`~rolling_cli.solver.budget.Budget` (which also keeps the history), and
@@ -43,6 +46,7 @@ class NonlinearSystem:
     evaluate: Callable[[np.ndarray], Any]
     step: Callable[[np.ndarray, Any], np.ndarray]
     describe: Callable[[np.ndarray, Any], dict]
+    step_columns: Callable[[], dict] | None = None
 
 
 class NewtonFailure(Exception):
@@ -196,6 +200,8 @@ def newton(
         try:
             budget.take()
             target_x = system.step(x, point)
+            if system.step_columns is not None:
+                row.update(system.step_columns())
             target = system.evaluate(target_x)
         except BudgetExhausted:
             raise NewtonFailure("budget", track.best_x, track.best, iteration) from None

@@ -142,8 +142,11 @@ def _nonlinear(problem: Problem, scales: formulation.Scales) -> NonlinearSystem:
     def evaluate(x):
         return formulation.evaluate(problem, State.unpack(x), scales)
 
+    linear: dict = {}
+
     def step(x, ev):
-        return formulation.newton_point(problem, State.unpack(x), ev).pack()
+        linear.clear()
+        return formulation.newton_point(problem, State.unpack(x), ev, linear).pack()
 
     def describe(x, ev):
         return {
@@ -155,7 +158,7 @@ def _nonlinear(problem: Problem, scales: formulation.Scales) -> NonlinearSystem:
             "linear_solver": problem.system.linear_solver,
         }
 
-    return NonlinearSystem(evaluate, step, describe)
+    return NonlinearSystem(evaluate, step, describe, lambda: dict(linear))
 
 
 def run_newton(
