@@ -8,7 +8,6 @@ use by another rollc); 130 interrupted (Ctrl-C, SIGTERM).
 
 from __future__ import annotations
 
-import atexit
 import gc
 import logging
 import os
@@ -419,7 +418,7 @@ def _fast_exit_safe() -> bool:
     h5py = sys.modules.get("h5py")
     if h5py is not None and h5py.h5f.get_obj_count(h5py.h5f.OBJ_ALL, h5py.h5f.OBJ_FILE):
         return False
-    return callable(getattr(atexit, "_run_exitfuncs", None))
+    return True
 
 
 def entry() -> None:
@@ -429,10 +428,12 @@ def entry() -> None:
     imports of a half-plane solve would trigger ~60 collections, ~10 ms, freeing ~300 objects. The
     interpreter's teardown (freeing every module of numpy, h5py and the package one by one) costs
     ~20-30 ms, a tenth of a half-plane solve's whole process, and does nothing a finished command
-    needs. So once the command has returned, with the process quiet (:func:`_fast_exit_safe`), the
-    exit handlers run (``atexit``: logging's flush, h5py's), stdout and stderr are flushed and the
-    process ends with the command's exit code (``os._exit``). Otherwise, or when a flush fails (a
-    closed pipe), Python exits the usual way. :func:`main` itself never ends the process early: it
+    needs. So once the command has returned, with the process quiet (:func:`_fast_exit_safe`: no
+    worker machinery or plotting loaded, one thread, no HDF5 file open, so h5py's exit handler has
+    nothing to close), logging is shut down (``logging.shutdown``: the one exit handler with work
+    left), stdout and stderr are flushed and the process ends with the command's exit code
+    (``os._exit``, the documented exit without cleanup). Otherwise, or when a flush fails (a closed
+    pipe), Python exits the usual way. :func:`main` itself never ends the process early: it
     stays callable from Python and from tests.
     """
     gc.disable()  # until the command's imports are done (_imported): they are most of its collections
@@ -445,7 +446,7 @@ def entry() -> None:
         gc.enable()
     if not isinstance(code, int) or not _fast_exit_safe():  # None, a message: Python's own handling
         sys.exit(code)
-    atexit._run_exitfuncs()
+    logging.shutdown()
     try:
         sys.stdout.flush()
         sys.stderr.flush()

@@ -464,8 +464,11 @@ def _parallel(executor, count: int, todo: Iterator[list], task, warm: bool, use_
 
 
 def _kill_stragglers(executor) -> None:
-    """Local workers still running after the stop wait are killed, so the exit is prompt."""
-    for process in list((getattr(executor, "_processes", None) or {}).values()):
+    """Local workers still running after the stop wait are killed, so the exit is prompt (they are
+    this process's children: ``multiprocessing.active_children``)."""
+    import multiprocessing
+
+    for process in multiprocessing.active_children():
         with contextlib.suppress(Exception):
             process.kill()
     with contextlib.suppress(Exception):

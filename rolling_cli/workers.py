@@ -101,10 +101,12 @@ def executor(workers: int) -> concurrent.futures.ProcessPoolExecutor:
 
 
 def interrupt(pool: concurrent.futures.ProcessPoolExecutor) -> None:
-    """Ask every worker to stop after its current statement (SIGINT)."""
-    for pid in list(getattr(pool, "_processes", {}) or {}):
-        with contextlib.suppress(ProcessLookupError, PermissionError):
-            os.kill(pid, signal.SIGINT)
+    """Ask every worker to stop after its current statement (SIGINT). The workers are this
+    process's children (``multiprocessing.active_children``: the pool is its only source of them)."""
+    del pool  # its workers are the children; the pool has no public list of them
+    for process in multiprocessing.active_children():
+        with contextlib.suppress(ProcessLookupError, PermissionError, TypeError):
+            os.kill(process.pid, signal.SIGINT)
 
 
 def default_count() -> int:
