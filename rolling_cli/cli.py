@@ -235,10 +235,9 @@ def plot(result_file, output, show, stresses, overwrite):
 @main.command()
 @click.argument("result_file", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Table file [default: FILE with .csv].")
-@click.option("--csv", "as_csv", is_flag=True, help="Write CSV (the only format; the default).")
 @click.option("--fields", is_flag=True, help="Also write the per-node fields to *_fields.csv.")
 @click.option("--overwrite", is_flag=True, help="Replace existing table files.")
-def export(result_file, output, as_csv, fields, overwrite):
+def export(result_file, output, fields, overwrite):
     """Write the summary table of a result or sweep file (one row per case) as CSV."""
 
     def action():

@@ -37,11 +37,6 @@ REFINED_FACTOR = 2.0**0.5 / (2.0**0.5 - 1.0)
 _KEYS = ("error_estimate", "error_estimate_rms", "error_estimate_creep", "error_estimate_load")
 
 
-def half_mesh_case(case: Case) -> Case:
-    """The case with half the contact elements (at least 2)."""
-    return with_elements(case, max(2, case.discretization.contact_elements // 2))
-
-
 def with_elements(case: Case, elements: int) -> Case:
     """The case with ``elements`` contact elements on the fixed mesh (no adaptive levels)."""
     disc = dataclasses.replace(case.discretization, contact_elements=elements, tolerance=None)

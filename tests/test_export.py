@@ -34,7 +34,7 @@ def test_summary_and_fields_tables_hold_the_files_values(tmp_path):
     study = tmp_path / "study.h5"
     spec = sweep.spec_from_options(["tangential.q_over_mu_p=0.3,1.2,0.8"], False)
     sweep.run(load_case(SMALL), spec, study)
-    result = run_cli("export", study, "--csv", "--fields")
+    result = run_cli("export", study, "--fields")
     assert result.exit_code == 0, result.output
     assert f"written {tmp_path / 'study.csv'}" in result.output
     rows = _rows(tmp_path / "study.csv")

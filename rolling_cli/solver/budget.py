@@ -29,11 +29,6 @@ class Budget:
     history: list[dict] = field(default_factory=list)
 
     @property
-    def remaining(self) -> int:
-        """Iterations left."""
-        return max(0, self.limit - self.taken)
-
-    @property
     def exhausted(self) -> bool:
         """True when no iteration is left."""
         return self.taken >= self.limit

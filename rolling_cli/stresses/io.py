@@ -51,11 +51,6 @@ DATASETS = {
 COORDINATES = ("x", "z", "surface_x", "bond_x")
 
 
-def write_stresses(node, bodies: dict[str, BodyStresses], units: dict[str, str]) -> None:
-    """Write ``bodies`` as the group ``stresses`` of the open HDF5 group ``node``."""
-    write_bodies(node.create_group("stresses"), bodies, units)
-
-
 def write_bodies(group, bodies: dict[str, BodyStresses], units: dict[str, str] | None = None) -> None:
     """Fill the empty HDF5 ``group`` with one subgroup per body (``A``, ``B``); ``units`` maps "length",
     "stress" and "1" to unit names (default: each body's ``unit_length``/``unit_stress`` attributes)."""
@@ -83,7 +78,7 @@ def write_bodies(group, bodies: dict[str, BodyStresses], units: dict[str, str] |
 
 
 def read_stresses(group) -> dict[str, BodyStresses]:
-    """The bodies of a ``stresses`` group written by :func:`write_stresses`."""
+    """The bodies of a ``stresses`` group written by :func:`write_bodies`."""
     out = {}
     for label, sub in group.items():
         arrays = {name: ds[()] for name, ds in sub.items() if isinstance(ds, h5py.Dataset)}

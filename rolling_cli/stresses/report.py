@@ -164,12 +164,3 @@ def summary_lines(attributes: dict, units: dict) -> list[str]:
         body = attributes[key + "_body"]
         lines.append(f"  {label:<14} {what} {value / p0:.4g} p0 = {value:.5g} {stress} at {where} (body {body})")
     return lines
-
-
-#: Per-case sweep columns: the indicator maxima (when computed) and the frictional power.
-SWEEP_COLUMNS = tuple(f"stress_max_{name}" for name in INDICATORS) + ("frictional_power_total",)
-
-
-def sweep_columns(attributes: dict) -> dict[str, float]:
-    """The sweep summary values of one case: every :data:`SWEEP_COLUMNS` entry its attributes hold."""
-    return {key: float(attributes[key]) for key in SWEEP_COLUMNS if key in attributes}
