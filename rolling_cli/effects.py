@@ -66,8 +66,13 @@ class Effects:
         return dataclasses.replace(self, notes=notes)
 
     def line(self) -> str:
-        """One line for the screen summary."""
-        return "; ".join(f"{name}: {text}" for name, text in self.notes.items())
+        """All effects in one line (the result file's ``effects_line``; the screen prints
+        :meth:`lines`)."""
+        return "; ".join(self.lines())
+
+    def lines(self) -> list[str]:
+        """One short line per effect, ``name: simulated|skipped: why``."""
+        return [f"{name}: {text}" for name, text in self.notes.items()]
 
     def to_json(self) -> str:
         """JSON text for the result file's ``effects`` attribute."""
@@ -113,7 +118,7 @@ def decide(case: Case) -> Effects:
     bem = model == "bem"
     layered = a.kind == "layered" or b.kind == "layered"
     k_over_g = cross_compliance(case)
-    beta = materials.beta_seed(a.modulus, a.ratio, b.modulus, b.ratio)
+    beta = materials.dundurs_beta(a.modulus, a.ratio, b.modulus, b.ratio)
 
     if same and bem:
         physical = False
@@ -125,8 +130,8 @@ def decide(case: Case) -> Effects:
         why_on = "a layer couples normal and tangential tractions whatever its nu (BEM cross blocks)"
     else:
         physical = k_over_g != 0.0
-        why_zero = "beta = 0, exactly decoupled" + (" (the BEM models half-spaces)" if bem else "")
-        why_on = f"dissimilar materials, beta = {beta:.4g}"
+        why_zero = "beta (Dundurs) = 0, exactly decoupled" + (" (the BEM models half-spaces)" if bem else "")
+        why_on = f"dissimilar materials, beta (Dundurs) = {beta:.4g}"
 
     choice = case.effects.coupling
     frictionless = mu == 0.0

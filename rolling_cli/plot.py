@@ -46,9 +46,15 @@ def _scales(result: Result) -> tuple[float, float, float]:
 
 
 def _bands(ax, result: Result, centre: float, a: float) -> None:
+    """Shade each slip/adhesion zone; the first band of each kind is labelled for the legend."""
+    labelled: set[str] = set()
     for name, start, end in result.zones():
         if name in COLOURS:
-            ax.axvspan((start - centre) / a, (end - centre) / a, color=COLOURS[name], alpha=0.8, lw=0, zorder=0)
+            label = f"{name} zone" if name not in labelled else None
+            labelled.add(name)
+            ax.axvspan(
+                (start - centre) / a, (end - centre) / a, color=COLOURS[name], alpha=0.8, lw=0, zorder=0, label=label
+            )
 
 
 def draw_result(ax, result: Result, label: str | None = None, bands: bool = True, slip_axis=None):

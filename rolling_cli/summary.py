@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 
 from .result import Result
 from .stresses import power
@@ -13,6 +14,15 @@ def _fmt(value: float, digits: int = 6) -> str:
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return "undefined"
     return f"{value:.{digits}g}"
+
+
+#: Summary lines are wrapped at this width, continued under the value column.
+WIDTH = 160
+_INDENT = " " * 17
+
+
+def _wrap(line: str) -> list[str]:
+    return textwrap.wrap(line, WIDTH, subsequent_indent=_INDENT, break_on_hyphens=False) or [line]
 
 
 def summary(result: Result, output: str | None = None) -> str:
@@ -29,7 +39,9 @@ def summary(result: Result, output: str | None = None) -> str:
         f"relative residual {attrs.get('residual', math.nan):.2e}"
     )
     effects = json.loads(attrs.get("effects", "{}")) if attrs.get("effects") else {}
-    lines.append(f"  effects        {attrs.get('effects_line', '')}")
+    notes = [f"{name}: {text}" for name, text in effects.get("notes", {}).items()]
+    for k, note in enumerate(notes or [attrs.get("effects_line", "")]):
+        lines.append(("  effects        " if k == 0 else _INDENT) + note)
     for warning in effects.get("warnings", []):
         lines.append(f"  WARNING        {warning}")
     lines.append(
@@ -92,4 +104,4 @@ def summary(result: Result, output: str | None = None) -> str:
         lines.append(f"  failure        {attrs['message']}")
     if output:
         lines.append(f"  written        {output}")
-    return "\n".join(lines)
+    return "\n".join(wrapped for line in lines for wrapped in _wrap(line))
