@@ -19,7 +19,7 @@ from pathlib import Path
 
 import click
 
-from . import __version__
+from ._version import __version__
 from .errors import CaseError, GrossSlidingError, RollingError, SolveError
 
 log = logging.getLogger("rolling_cli")

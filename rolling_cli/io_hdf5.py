@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 
-from . import __version__
+from ._version import __version__
 from .layout import FORMAT, FORMAT_VERSION
 from .reader import read_group, read_result
 from .result import Result, utc_timestamp

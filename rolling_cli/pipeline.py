@@ -39,8 +39,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import __version__, materials
 from . import effects as effects_mod
+from . import materials
+from ._version import __version__
 from .adapt import graded
 from .case import Case, case_to_dict, case_to_toml, load_case
 from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
