@@ -143,7 +143,7 @@ def test_bem_half_spaces_with_beta_zero_are_decoupled():
             }
         )
     )
-    assert "coupling: skipped: beta = 0, exactly decoupled (the BEM models half-spaces)" in r.effects_line
+    assert "coupling: skipped: beta (Dundurs) = 0, exactly decoupled (the BEM models half-spaces)" in r.effects_line
     assert "influence B: simulated: BEM half-space" in r.effects_line
 
 
