@@ -25,7 +25,7 @@ def open_result(path: str | os.PathLike):
     try:
         import xarray
     except ImportError:
-        xarray = None
+        xarray = None  # type: ignore[assignment]  # optional extra: Result objects instead
     with converted(path) as source:
         with h5py.File(source, "r") as handle:
             version(handle)

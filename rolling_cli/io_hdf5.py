@@ -46,7 +46,7 @@ def write_result(result: Result, path: str | os.PathLike, *, overwrite: bool = T
     ``command`` is recorded in the CF ``history`` attribute.
     """
     attrs = root_attributes(
-        result.attributes.get("title", ""), result.case_toml, command, result.attributes.get("created")
+        result.attributes.get("title", ""), result.case_toml or "", command, result.attributes.get("created")
     )
     writer = ResultFile(os.fspath(path), attrs, total=1, replace=overwrite)
     writer.add(row_from_result(result))

@@ -44,6 +44,7 @@ from . import materials
 from ._version import __version__
 from .adapt import graded
 from .case import Case, case_to_dict, case_to_toml, load_case
+from .case.given import given
 from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
 from .influence.build import clear_memo, pair_compliance
@@ -104,7 +105,7 @@ def plan(case: Case, half_width: float | None = None, check: bool = True) -> Pla
     measured = True
     if half_width is None:
         if hertz_applies(case):
-            half_width = hertz.half_width(float(case.normal.load), r_star, e_star)
+            half_width = hertz.half_width(given(case.normal.load, "normal.load"), r_star, e_star)
         else:
             half_width, measured = first_guess(case, e_star, r_star), False
     if case.normal.load is not None:
@@ -193,15 +194,16 @@ def first_guess(case: Case, e_star: float, r_star: float) -> float:
         load = float(case.normal.load)
         guess = hertz.half_width(load, r_star, e_star)
         for body in layers:
-            b, young, nu = float(body.layer_thickness), float(body.young), float(body.poisson)
+            b = given(body.layer_thickness, "layer_thickness")
+            young, nu = given(body.young, "young"), given(body.poisson, "poisson")
             thin = max(
                 thin_layer.compressible_half_width(load, r_star, young, nu, b),
                 thin_layer.incompressible_half_width(load, r_star, young, b),
             )
             guess = min(guess, thin)
         return guess
-    incompressible = any(float(body.poisson) >= 0.45 for body in layers)
-    return thin_layer.half_width_for_overlap(float(case.normal.overlap), r_star, incompressible)
+    incompressible = any(given(body.poisson, "poisson") >= 0.45 for body in layers)
+    return thin_layer.half_width_for_overlap(given(case.normal.overlap, "normal.overlap"), r_star, incompressible)
 
 
 def check_gross_sliding(case: Case) -> None:
@@ -304,11 +306,25 @@ class Level:
     restart: State | None = None  # a warm-started level's closed-form start, tried if the warm one fails
 
     @property
+    def solved(self) -> Solution:
+        """The level's solution; RuntimeError before it is solved (or after it was released)."""
+        if self.solution is None:
+            raise RuntimeError(f"the {self.kind} level has no solution")
+        return self.solution
+
+    @property
+    def built(self) -> ContactSystem:
+        """The level's contact system; RuntimeError before it is built (or after it was released)."""
+        if self.system is None:
+            raise RuntimeError(f"the {self.kind} level has no contact system")
+        return self.system
+
+    @property
     def touches_edge(self) -> bool:
         """The solution presses on an end node of the zone; for a failed level, any iterate did."""
         if self.failure is not None:
             return any(row.get("edge") for row in self.history or [])
-        return _contact_half_width(self.solution)[1]
+        return _contact_half_width(self.solved)[1]
 
 
 #: Coarse pre-solve that measures a: contact elements, and potential zone / first guess of a.
@@ -333,7 +349,8 @@ TINY_FRICTION = 1e3
 def presolve_case(case: Case, guess: float, zone: float) -> Case:
     """The coarse frictionless normal case that measures a around the guess ``guess`` [length]."""
     thinnest = min(
-        (float(b.layer_thickness) for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"), default=math.inf
+        (given(b.layer_thickness, "layer_thickness") for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"),
+        default=math.inf,
     )
     needed = int(np.ceil(2.0 * zone * guess / (PRESOLVE_LAYER_ELEMENT * thinnest))) if thinnest < math.inf else 0
     elements = int(min(max(PRESOLVE_ELEMENTS, needed), 400))
@@ -398,6 +415,14 @@ class MeshPath:
         self.compare_start = compare_start
         self.adaptation: adaptive.Adaptation | None = None
 
+    @property
+    def last(self) -> Level:
+        """The level solved last (the path asks for the next level only after solving one)."""
+        level = self.points[-1][1]
+        if level is None:
+            raise RuntimeError("no mesh level has been solved yet")
+        return level
+
     def _announce(self, level: Level) -> float:
         number = float(len(self.levels) + 1)
         self.levels[number] = level
@@ -411,12 +436,12 @@ class MeshPath:
             for _ in range(6):
                 coarse = presolve_case(case, guess, zone)
                 yield self._announce(Level("a-estimate", coarse, plan(coarse, half_width=guess, check=False)))
-                last = self.points[-1][1]
-                measured, touches = _contact_half_width(last.solution)
+                last = self.last
+                measured, touches = _contact_half_width(last.solved)
                 if touches:
                     zone *= 2.0
                     continue
-                close = abs(measured - guess) <= 2.0 * last.system.spacing
+                close = abs(measured - guess) <= 2.0 * last.built.spacing
                 guess, zone = measured, 1.6
                 if close:
                     break
@@ -443,7 +468,7 @@ class MeshPath:
                 yield self._announce(Level("coarse grid", coarse, plan(coarse, half_width=base.half_width)))
         yield self._announce(Level("case grid", case, base, self.given))
         while True:
-            last = self.points[-1][1]
+            last = self.last
             if not last.touches_edge:
                 break
             zone = last.case.discretization.zone * ZONE_GROWTH
@@ -470,16 +495,22 @@ class MeshPath:
         on a layer no element longer than :data:`LAYER_ELEMENT_FRACTION` of its thickness). A refined
         level that does not converge ends the loop; the result is then the previous level's."""
         disc = self.case.discretization
-        last = self.points[-1][1]
+        last = self.last
         from .adapt import levels as adaptive
 
-        layers = [float(b.layer_thickness) for b in (self.case.bodies.A, self.case.bodies.B) if b.kind == "layered"]
+        layers = [
+            given(b.layer_thickness, "layer_thickness")
+            for b in (self.case.bodies.A, self.case.bodies.B)
+            if b.kind == "layered"
+        ]
         largest = LAYER_ELEMENT_FRACTION * min(layers) if layers else None
         bem = last.plan.effects.influence == "bem"
         most = adaptive.MAX_BEM_ELEMENTS if bem else adaptive.MAX_ELEMENTS
-        self.adaptation = adaptive.Adaptation(disc.tolerance, disc.max_refinements, largest, most, fits=self._fits)
+        self.adaptation = adaptive.Adaptation(
+            given(disc.tolerance, "discretization.tolerance"), disc.max_refinements, largest, most, fits=self._fits
+        )
         while True:
-            last = self.points[-1][1]
+            last = self.last
             if last.failure is not None:
                 previous = self.adaptation.history[-1]
                 self.adaptation.note = (
@@ -501,8 +532,8 @@ class MeshPath:
         if level.fields is None:
             from .adapt import levels as adaptive
 
-            state, system, mu = level.solution.state, level.system, level.case.friction.mu
-            stick = level.solution.stick
+            state, system, mu = level.solved.state, level.built, level.case.friction.mu
+            stick = level.solved.stick
             if not level.plan.effects.tangential and mu > 0.0:
                 stick = state.p_n < 0.0  # p_t = 0, xi = 0: every contact node adheres (as assemble)
             level.fields = adaptive.LevelFields(
@@ -544,8 +575,13 @@ class MeshPath:
         if previous is not None and previous.failure is not None:
             previous = None  # after a failed level (a zone too small): a cold start
         if previous is None:
-            usable = self.start is not None and level.kind == "case grid" and level.system is not None
-            if usable and self.start.p_n.shape == level.system.x.shape:
+            start, system = self.start, level.system
+            if (
+                start is not None
+                and level.kind == "case grid"
+                and system is not None
+                and start.p_n.shape == system.x.shape
+            ):
                 t0 = time.perf_counter()
                 try:
                     return self._warm_start(level)
@@ -553,7 +589,7 @@ class MeshPath:
                     self.timings["solve"] += time.perf_counter() - t0
             return None
         x_to = level.plan.grid.x
-        moved = predictor.transfer(previous.solution.state, previous.system.x, x_to, level.case.friction.mu)
+        moved = predictor.transfer(previous.solved.state, previous.built.x, x_to, level.case.friction.mu)
         if previous.kind == "a-estimate" and level.kind != "a-estimate":
             guess = initial_state(level.case, level.plan, self._system(level))
             guess.p_n, guess.overlap = moved.p_n, moved.overlap
@@ -574,12 +610,14 @@ class MeshPath:
         neighbours' traction alone, 56 with the better of the two, the warm-started cases
         1.07 a case). The pressure and overlap stay the neighbours': along a load curve they
         are the converged ones."""
-        case, system = level.case, level.system
+        case, system, start = level.case, level.built, self.start
+        if start is None:
+            return None
         task = _task(case, level.plan, system)
-        candidates = [self.start]
+        candidates = [start]
         cold = initial_state(case, level.plan, system)
         if case.friction.mu > 0.0:
-            candidates.append(predictor.with_traction(self.start, cold, case.friction.mu))
+            candidates.append(predictor.with_traction(start, cold, case.friction.mu))
         if self.compare_start:
             candidates.append(cold)
         merits = [strategies.merit(task, state) for state in candidates] if len(candidates) > 1 else [0.0]
@@ -603,7 +641,7 @@ class MeshPath:
 
         warm = adaptive.transferred_state(self._fields(previous), level.plan.grid)
         cold = initial_state(level.case, level.plan, self._system(level))
-        task = self._task(level, level.system)
+        task = self._task(level, level.built)
         level.transferred = strategies.merit(task, warm) <= strategies.merit(task, cold)
         return (warm if level.transferred else cold), True, False
 
@@ -679,10 +717,12 @@ class MeshPath:
         try:
             continuation.follow(self.targets(), self.solve_at, self.predict, self.points, failure=_LevelFailed)
         except continuation.ContinuationFailed as err:
+            if err.__cause__ is None:
+                raise
             raise err.__cause__ from None
-        final = self.points[-1][1]
+        final = self.last
         if final.kind == "refined mesh" and final.failure is not None:  # the last converged level
-            final = next(level for _, level in reversed(self.points[1:]) if level.failure is None)
+            final = next(level for _, level in reversed(self.points[1:]) if level is not None and level.failure is None)
         return final
 
 
@@ -776,11 +816,11 @@ def _task(case: Case, the_plan: Plan, system: ContactSystem) -> Task:
 
 
 def _zone_error(level: Level) -> ZoneError:
-    x, p_n = level.system.x, level.solution.state.p_n
+    x, p_n = level.built.x, level.solved.state.p_n
     contact = p_n < 0.0
     return ZoneError(
         "the contact reaches the edge of the potential contact zone, so the answer is wrong",
-        residual=level.solution.evaluation.relative_residual,
+        residual=level.solved.evaluation.relative_residual,
         iterations=level.iterations,
         cause="discretization.zone is too small for this load; enlarge it "
         f"(contact covers x = {x[contact].min():.4g} .. {x[contact].max():.4g}, zone {x[0]:.4g} .. {x[-1]:.4g})",
@@ -818,7 +858,7 @@ def _failure(level: Level, err: ConvergenceError, path: MeshPath, keep_failed: b
     )
     if not keep_failed or partial is None or level.kind not in ("case grid", "enlarged zone"):
         raise err
-    task = _task(level.case, level.plan, level.system)
+    task = _task(level.case, level.plan, level.built)
     problem = task.problem(task.full_mode)
     prepared = task.prepared(partial)
     ev = formulation.evaluate(problem, prepared, formulation.traction_scales(problem, prepared))
@@ -874,7 +914,7 @@ def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dic
 
 def assemble(level: Level, history: list[dict], timings: dict, converged: bool = True) -> Result:
     """The :class:`Result` of a solved level: arrays, loads, zones, references and provenance."""
-    case, the_plan, system, solution = level.case, level.plan, level.system, level.solution
+    case, the_plan, system, solution = level.case, level.plan, level.built, level.solved
     iterations = level.iterations
     effects = the_plan.effects
     if level.origin:

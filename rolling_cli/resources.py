@@ -134,7 +134,7 @@ class Estimate:
     def as_dict(self) -> dict:
         """The estimate as ``rollc check`` prints it (bytes, floating-point operations)."""
         available = available_memory()
-        out = {"memory_estimate": float(self.bytes), "work_estimate": float(self.flops)}
+        out: dict[str, float | str] = {"memory_estimate": float(self.bytes), "work_estimate": float(self.flops)}
         if available is not None:
             out["memory_available"] = available
         out["memory_note"] = self.describe()
@@ -450,7 +450,7 @@ def _read_number(path: str) -> float | None:
 
 def _cgroup_free() -> list[float]:
     """Limit minus non-reclaimable usage of each limited memory cgroup of this process [bytes]."""
-    free = []
+    free: list[float] = []
     try:
         with open("/proc/self/cgroup") as handle:
             lines = handle.read().splitlines()

@@ -76,7 +76,7 @@ class Result:
         return text
 
     def _set_case_toml(self, text: str | None) -> None:
-        self._case_toml = None if text is None else str(text)
+        self.__dict__["_case_toml"] = None if text is None else str(text)
 
     @property
     def units(self) -> dict[str, str]:
@@ -128,4 +128,4 @@ def node_states(p_n: np.ndarray, stick: np.ndarray) -> np.ndarray:
 # class is made so that the field keeps its default (None: not written yet) in __init__. Where the
 # input case differs from the final level's (a zone enlarged, an adaptive mesh), the pipeline sets
 # the TOML itself.
-Result.case_toml = property(Result._get_case_toml, Result._set_case_toml)
+Result.case_toml = property(Result._get_case_toml, Result._set_case_toml)  # type: ignore[assignment]

@@ -46,7 +46,7 @@ def _size_integral_inverse(phi: np.ndarray, smallest: float, largest: float, rat
 
 def _graded_piece(length: float, smallest: float, largest: float, rate: float) -> np.ndarray:
     """Distances [length] of the element edges from the anchor over a piece of ``length``, 0 .. length."""
-    total = float(_size_integral(length, smallest, largest, rate))
+    total = float(_size_integral(np.asarray(length, dtype=float), smallest, largest, rate))
     count = max(1, int(np.ceil(total - 1e-9)))
     distances = _size_integral_inverse(np.linspace(0.0, total, count + 1), smallest, largest, rate)
     distances[-1] = length

@@ -33,6 +33,7 @@ No solves here: the decisions on plain arrays, and a small record of the run.
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 import math
 from dataclasses import dataclass, field
 
@@ -83,7 +84,7 @@ class Adaptation:
     max_refinements: int
     largest: float | None = None
     max_elements: int = MAX_ELEMENTS
-    fits: object = None
+    fits: Callable[[int], str] | None = None
     history: list[dict] = field(default_factory=list)
     note: str = ""
     met: bool = False

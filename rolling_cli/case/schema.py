@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import CaseError
+from .given import given
 from ..influence.choice import MODELS
 
 #: Magnitudes allowed for dimensional inputs (lengths, moduli, loads, penalties)
@@ -75,12 +76,16 @@ class Body:
     @property
     def modulus(self) -> float:
         """Young's modulus for the closed forms: inf for a rigid body [stress]."""
-        return math.inf if self.rigid else float(self.young)
+        if self.rigid:
+            return math.inf
+        return given(self.young, "young")
 
     @property
     def ratio(self) -> float:
         """Poisson's ratio for the closed forms (0 for a rigid body: it then multiplies 1/inf)."""
-        return 0.0 if self.rigid else float(self.poisson)
+        if self.rigid:
+            return 0.0
+        return given(self.poisson, "poisson")
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import difflib
 import math
+from collections.abc import Mapping
 from typing import Any
 
 from ..errors import CONTROL_CHARACTERS, CaseError
@@ -35,7 +36,7 @@ def _fail(file: str | None, key: str, value: Any, problem: str, allowed: str) ->
     return CaseError(f"{key} = {_show(value)}: {problem}; allowed: {allowed}", file=file, key=key)
 
 
-def _bounds_text(meta: dict) -> str:
+def _bounds_text(meta: Mapping[str, Any]) -> str:
     parts = []
     for rule, sym in (("gt", ">"), ("ge", ">="), ("lt", "<"), ("le", "<=")):
         if rule in meta and not (rule == "ge" and "zero_or_ge" in meta):
@@ -45,7 +46,7 @@ def _bounds_text(meta: dict) -> str:
     return "a number " + " and ".join(parts) if parts else "a number"
 
 
-def _allowed(meta: dict) -> str:
+def _allowed(meta: Mapping[str, Any]) -> str:
     kind = meta.get("kind")
     if "choices" in meta:
         return " | ".join(_show(c) for c in meta["choices"])
@@ -63,7 +64,7 @@ def _allowed(meta: dict) -> str:
     return "a string without control characters"
 
 
-def _check_bounds(value: float, meta: dict) -> bool:
+def _check_bounds(value: float, meta: Mapping[str, Any]) -> bool:
     return not (
         ("gt" in meta and not value > meta["gt"])
         or ("ge" in meta and not value >= meta["ge"])
@@ -72,7 +73,7 @@ def _check_bounds(value: float, meta: dict) -> bool:
     )
 
 
-def convert_scalar(value: Any, meta: dict, key: str, file: str | None) -> Any:
+def convert_scalar(value: Any, meta: Mapping[str, Any], key: str, file: str | None) -> Any:
     """Check one scalar against its field rules and return the converted value."""
     if "convert" in meta:
         return meta["convert"](value, key, file)
@@ -290,5 +291,5 @@ def field_metadata(dotted: str) -> dict:
     return {}
 
 
-def _meta(cls: type, name: str) -> dict:
+def _meta(cls: type, name: str) -> Mapping[str, Any]:
     return next(f.metadata for f in dataclasses.fields(cls) if f.name == name)

@@ -23,8 +23,15 @@ is absent or switched off): they are then exactly zero.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, TypeAlias
 
 import numpy as np
+
+#: A compliance block: a dense matrix (np.ndarray), or on a uniform grid a
+#: :class:`~rolling_cli.influence.toeplitz.BlockToeplitz` operator (matrix-free), which the
+#: solver uses through the same duck-typed operations (``@``, unary minus, ``.T``, ``.shape``).
+#: Any to a type checker: numpy's array stubs do not describe such an operator.
+Block: TypeAlias = Any
 
 
 @dataclass(frozen=True)
@@ -39,10 +46,10 @@ class Compliance:
 
     x: np.ndarray
     weights: np.ndarray
-    S_nn: np.ndarray
-    S_tt: np.ndarray
-    S_nt: np.ndarray | None = None
-    S_tn: np.ndarray | None = None
+    S_nn: Block
+    S_tt: Block
+    S_nt: Block | None = None
+    S_tn: Block | None = None
     definite_normal: bool = False
 
     @property
@@ -52,13 +59,19 @@ class Compliance:
 
 
 def _add(a: np.ndarray | None, b: np.ndarray | None, sign: float) -> np.ndarray | None:
-    if a is None and b is None:
-        return None
     if a is None:
-        return sign * b
+        return None if b is None else sign * b
     if b is None:
         return a.copy()
     return a + sign * b
+
+
+def _direct(a: np.ndarray | None, b: np.ndarray | None) -> np.ndarray:
+    """A direct block of the pair, S^A + S^B, of the bodies present (one at least)."""
+    total = _add(a, b, 1.0)
+    if total is None:
+        raise ValueError("at least one body must be deformable")
+    return total
 
 
 def combine(body_a: Compliance | None, body_b: Compliance | None, coupling: bool) -> Compliance:
@@ -87,8 +100,8 @@ def combine(body_a: Compliance | None, body_b: Compliance | None, coupling: bool
     return Compliance(
         x=ref.x,
         weights=ref.weights,
-        S_nn=_add(a_nn, b_nn, 1.0),
-        S_tt=_add(a_tt, b_tt, 1.0),
+        S_nn=_direct(a_nn, b_nn),
+        S_tt=_direct(a_tt, b_tt),
         S_nt=s_nt,
         S_tn=s_tn,
         definite_normal=all(b.definite_normal for b in bodies),

@@ -46,7 +46,7 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
         pair = _halfplane(the_plan.grid, a.modulus, a.ratio, b.modulus, b.ratio, coupling)
         return pair, {"A": "closed form", "B": "closed form"}
     origin = {}
-    bodies = {}
+    bodies: dict[str, Compliance | None] = {}
     for label, body in (("A", a), ("B", b)):
         if body.rigid:
             bodies[label], origin[label] = None, "rigid"

@@ -325,11 +325,13 @@ def products(sums: list[list[tuple[BlockToeplitz, np.ndarray]]]) -> list[np.ndar
                 slots[id(operand)] = len(arrays)
                 arrays.append(p)
     transformed = _forward(arrays, ne, m, length, rfft)
-    totals = []
+    totals: list[np.ndarray] = []
     for terms in sums:
-        total = None
+        total: np.ndarray | None = None
         for op, operand in terms:
             total = _accumulate(total, op.spectrum(), transformed[slots[id(operand)]])
+        if total is None:
+            raise ValueError("a sum of operator products needs one term at least")
         totals.append(total)
     if len({t.shape for t in totals}) == 1:
         found = list(irfft(np.stack(totals), n=length, axis=-1)[..., ne - 1 : 2 * ne - 1])
@@ -364,10 +366,13 @@ def _accumulate(total: np.ndarray | None, spectrum: np.ndarray, transformed: np.
     """total[a] += sum_k spectrum[a, k] P[k] for P = ``transformed`` (m, ..., frequencies)."""
     m, frequencies = spectrum.shape[0], spectrum.shape[-1]
     flat = transformed.reshape(m, -1, frequencies)
+    out = total
     for k in range(m):
         term = spectrum[:, k, None, :] * flat[k]
-        if total is None:
-            total = term
+        if out is None:
+            out = term
         else:
-            total += term.reshape(total.shape)
-    return total.reshape((m,) + transformed.shape[1:])
+            out += term.reshape(out.shape)
+    if out is None:
+        raise ValueError("an operator spectrum needs one component at least")
+    return out.reshape((m,) + transformed.shape[1:])

@@ -42,7 +42,7 @@ def traction(
         d = stick_centre(q_over_mu_p, a, direction)
         corr = np.sqrt(np.clip((c - (x - d)) * (c + (x - d)), 0.0, None)) / a
     else:
-        corr = 0.0
+        corr = np.zeros_like(full)
     return sign * mu * p0 * np.clip(full - corr, 0.0, None)
 
 

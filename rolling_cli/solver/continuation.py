@@ -82,7 +82,8 @@ def follow(
                 solution, iterations = solve_at(trial, predict(points, trial))
             except failure as err:
                 if control is None or abs(step) * control.shrink < smallest or (budget and budget.exhausted):
-                    raise ContinuationFailed(trial, err.reason, points[-1][1], err.residual) from err
+                    reason, residual = getattr(err, "reason", str(err)), getattr(err, "residual", float("nan"))
+                    raise ContinuationFailed(trial, reason, points[-1][1], residual) from err
                 step *= control.shrink
                 continue
             points.append((trial, solution))

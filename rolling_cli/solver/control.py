@@ -52,7 +52,7 @@ def convergence_error(err: StrategyFailed, budget: Budget) -> ConvergenceError:
     """The error for a failed strategy: which ran, where it failed, and what to try."""
     tried = ", ".join(budget.strategies()) or err.strategy
     reasons = [f.reason for f in (err.causes or [err])]
-    key = "budget" if budget.exhausted else ("stagnation" if "stagnation" in reasons else None)
+    key = "budget" if budget.exhausted else ("stagnation" if "stagnation" in reasons else "")
     cause = ADVICE.get(key, reasons[-1])
     return ConvergenceError(
         f"Newton did not converge (strategies tried: {tried}; last failed stage: {err.stage})",

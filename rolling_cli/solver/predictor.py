@@ -66,11 +66,11 @@ def zones(x: np.ndarray, labels: np.ndarray, p_n: np.ndarray, p_t: np.ndarray, b
         left, right = labels[i], labels[i + 1]
         edges[k] = (left == 0) != (right == 0)
         if edges[k]:
-            field, inside = -np.minimum(p_n, 0.0), (i if right == 0 else i + 1)
+            field, inside = -np.minimum(p_n, 0.0), int(i if right == 0 else i + 1)
         elif 1 in (left, right):
-            field, inside = margin, (i if left == 1 else i + 1)
+            field, inside = margin, int(i if left == 1 else i + 1)
         else:
-            field, inside = None, None
+            field, inside = None, -1  # no field: the zero crossing of p_t places the boundary
         lo, hi = x[i], x[i + 1]
         position = 0.5 * (lo + hi)
         if field is None:

@@ -83,9 +83,9 @@ def graded_edges(start: float, end: float, first: float, growth: float, largest:
         size = min(size * growth, largest)
     if len(sizes) > 1 and total - length > 0.5 * sizes[-1]:
         total -= sizes.pop()
-    sizes = np.array(sizes) * (length / total)
+    scaled = np.array(sizes) * (length / total)
     direction = np.sign(end - start)
-    return start + direction * np.concatenate([[0.0], np.cumsum(sizes)])
+    return start + direction * np.concatenate([[0.0], np.cumsum(scaled)])
 
 
 @dataclass
