@@ -6,7 +6,6 @@ from __future__ import annotations
 import re
 
 from helpers import dissimilar, solve
-from rolling_cli import materials
 from rolling_cli.summary import WIDTH, summary
 
 

@@ -33,8 +33,8 @@ No solves here: the decisions on plain arrays, and a small record of the run.
 from __future__ import annotations
 
 import json
-from collections.abc import Callable
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np

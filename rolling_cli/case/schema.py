@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import CaseError
-from .given import given
 from ..influence.choice import MODELS
+from .given import given
 
 #: Magnitudes allowed for dimensional inputs (lengths, moduli, loads, penalties)
 #: in any consistent unit system. Any practical unit system fits (steel in Pa
