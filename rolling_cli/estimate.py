@@ -27,7 +27,7 @@ import numpy as np
 from .case import Case
 from .errors import CaseError, RollingError
 from .pipeline import solve
-from .result import Result
+from .result import Result, recorded
 
 log = logging.getLogger(__name__)
 
@@ -83,7 +83,7 @@ def add_error_estimate(case: Case, result: Result, use_cache: bool = True) -> Re
         attrs["error_estimate_note"] = f"no estimate: the {method.split(',')[0]} cannot be solved ({err})"
         return result
     p0 = float(np.max(-result.p_n))
-    mu = result.mu
+    mu = recorded(result.mu, "mu")
     if mu > 0.0:
         fine, rough, scale = result.p_t, np.interp(result.x, comparison.x, comparison.p_t), mu * p0
     else:
@@ -93,9 +93,11 @@ def add_error_estimate(case: Case, result: Result, use_cache: bool = True) -> Re
     attrs = result.attributes
     attrs["error_estimate"] = float(diff.max())
     attrs["error_estimate_rms"] = float(np.sqrt(np.mean(diff[contact] ** 2))) if contact.any() else 0.0
-    creep = factor * abs(result.creep - comparison.creep)
-    attrs["error_estimate_creep"] = creep / abs(result.creep) if result.creep else 0.0
-    attrs["error_estimate_load"] = factor * abs(result.normal_load - comparison.normal_load) / result.normal_load
+    xi, xi_other = recorded(result.creep, "creep"), recorded(comparison.creep, "creep")
+    load, load_other = recorded(result.normal_load, "normal_load"), recorded(comparison.normal_load, "normal_load")
+    creep = factor * abs(xi - xi_other)
+    attrs["error_estimate_creep"] = creep / abs(xi) if xi else 0.0
+    attrs["error_estimate_load"] = factor * abs(load - load_other) / load
     attrs["error_estimate_elements"] = comparison.contact_elements
     attrs["error_estimate_method"] = method
     return result

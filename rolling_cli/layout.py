@@ -37,6 +37,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .result import QUANTITIES
+
 FORMAT = "rolling_cli.result"
 FORMAT_VERSION = 2
 #: Format name of version-1 sweep files (one HDF5 group per case); read only.
@@ -49,40 +51,11 @@ PROVENANCE = ("format", "format_version", "software_version", "created")
 GRID = ("x", "weights")
 STATE_FILL = -1
 
-#: Scalars with known meaning: name -> (long name, unit key of Result.units, or "s").
+#: Per-case scalars: name -> (long name, unit key of Result.units, "s", or None for text and
+#: booleans). The result's quantities are declared once, in :mod:`rolling_cli.result.quantities`;
+#: the two below describe a file's storage.
 SCALARS = {
-    "converged": ("the solve converged to the tolerance", None),
-    "iterations": ("Newton iterations, all stages together", "1"),
-    "residual": ("final relative residual", "1"),
-    "normal_load": ("normal load P = -sum w p_n per unit axial length", "force/length"),
-    "tangential_load": ("tangential load Q = sum w p_t on body A per unit axial length", "force/length"),
-    "q_over_mu_p": ("Q/(mu P)", "1"),
-    "creep": ("creepage xi = (V_A - V_B)/|V|", "1"),
-    "overlap": ("rigid overlap (NaN where undefined)", "length"),
-    "solved_overlap": ("overlap unknown of the solve (the half-plane's free constant)", "length"),
-    "mu": ("coefficient of friction", "1"),
-    "hertz_a": ("Hertz half-width at the solved load", "length"),
-    "hertz_p0": ("Hertz peak pressure at the solved load", "stress"),
-    "mesh_half_width": ("length a that scales the mesh", "length"),
-    "beta_dundurs": ("Dundurs' beta", "1"),
-    "beta_seed": ("2 beta_Dundurs (the paper's beta)", "1"),
-    "contact_half_width": ("half-width of the contact (node cells included)", "length"),
-    "contact_centre": ("centre of the contact", "length"),
-    "penalty_n": ("normal penalty r_n", "stress/length"),
-    "penalty_t": ("tangential penalty r_t", "stress"),
-    "reference_penalty_n": ("reference normal penalty of the residual", "stress/length"),
-    "reference_penalty_t": ("reference tangential penalty of the residual", "stress"),
-    "traction_scale": ("max |p_n|, the scale of the relative residual", "stress"),
-    "node_spacing": ("spacing of the contact nodes", "length"),
-    "direction": ("sign of the rolling velocity V (-1 where the case failed before solving)", "1"),
-    "contact_elements": ("elements over the potential contact zone", "1"),
-    "coupling_strength": ("measured coupling max|B_tn| / max|B_tt|", "1"),
-    "carter_creep": ("Carter's creepage for the solved Q/(mu P)", "1"),
-    "time": ("wall time of the case", "s"),
-    "time_influence": ("wall time of the influence build", "s"),
-    "time_solve": ("wall time of the Newton solve", "s"),
-    "time_total": ("wall time of the whole command", "s"),
-    "message": ("why the case failed (empty when it converged)", None),
+    **{name: (q.long_name, q.unit) for name, q in QUANTITIES.items() if q.kind != "array"},
     "nodes": ("contact nodes of the case (per-node variables are padded beyond)", "1"),
     "history_rows": ("rows of the case in group convergence", "1"),
 }

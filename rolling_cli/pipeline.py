@@ -1016,7 +1016,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         ratio = float(np.clip(q / (mu * load), -1.0, 1.0))
         reference["carter_traction"] = carter.traction(system.x, ratio, ref_a, ref_p0, mu, case.rolling.direction)
         attrs["carter_creep"] = carter.creepage(ratio, ref_a, the_plan.radius, mu)
-    return Result(
+    result = Result(
         x=system.x,
         weights=w,
         p_n=p_n,
@@ -1024,12 +1024,13 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         delta_n=system.gap(p_n, p_t, state.overlap),
         s_t=s_t,
         state=states,
-        attributes=attrs,
         history=history,
         reference=reference,
         case=case,
         frictional_power=dissipation,
     )
+    result.record(**attrs)
+    return result
 
 
 def _free_creep(case: Case) -> float:

@@ -9,14 +9,18 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import os
+from typing import Any
 
 import h5py
 import numpy as np
 
 from .layout import CONVERGENCE, FORMAT, FORMAT_V1_SWEEP, PROVENANCE
-from .result import Result
+from .result import QUANTITIES, Result
 from .rows import GROUP_HOOKS
+
+log = logging.getLogger(__name__)
 
 #: Per-case variables that describe the file's storage, not the solve.
 STORAGE = ("nodes", "history_rows")
@@ -117,12 +121,17 @@ def read_case(handle, row: int = 0, table: dict | None = None) -> Result:
         raise IndexError(f"row {row} beyond the {cases_complete(handle)} complete cases")
     attrs = {k: plain(handle.attrs[k]) for k in PROVENANCE if k in handle.attrs}
     keys = {name: key for key, name in swept_names(handle).items()}
+    swept = {}
     one = table is None
-    for name, values in (case_table(handle, start=row, stop=row + 1) if one else table).items():
-        if name not in STORAGE and name != "case":
-            attrs[keys.get(name, name)] = plain(values[0 if one else row])
+    rows = case_table(handle, start=row, stop=row + 1) if table is None else table
+    for name, values in rows.items():
+        if name in keys:
+            swept[keys[name]] = plain(values[0 if one else row])
+        elif name not in STORAGE and name != "case":
+            attrs[name] = plain(values[0 if one else row])
     count = int(handle["nodes"][row]) if "nodes" in handle else None
-    arrays, reference = {}, {}
+    arrays: dict[str, Any] = {}
+    reference = {}
     fields = {f.name for f in dataclasses.fields(Result)}
     for name in node_variables(handle):
         values = node_values(handle, name, row, count)
@@ -133,19 +142,27 @@ def read_case(handle, row: int = 0, table: dict | None = None) -> Result:
     history = _history(handle, row)
     result = Result(
         **arrays,
-        attributes=attrs,
         history=history,
         reference=reference,
         case_toml=plain(handle.attrs.get("case", "")),
+        swept=swept,
     )
+    _record(result, attrs)
     for name, hook in GROUP_HOOKS.items():
         group_name = f"{name}/case_{int(handle['case'][row]):06d}"
         if group_name in handle:
-            if name in result.__dataclass_fields__:
-                setattr(result, name, hook.read(handle[group_name]))
-            else:  # a per-case array attribute (element_edges)
-                result.attributes[name] = hook.read(handle[group_name])
+            setattr(result, name, hook.read(handle[group_name]))
     return result
+
+
+def _record(result: Result, values: dict) -> None:
+    """Record the file's values of declared quantities; others (a newer version's, or an older
+    one's that this version no longer declares) are left out, and logged."""
+    known = {k: v for k, v in values.items() if k in QUANTITIES}
+    result.record(**known)
+    result.swept.update({k: v for k, v in values.items() if "." in k})  # format 1: swept keys as attributes
+    if len(known) + sum("." in k for k in values) < len(values):
+        log.debug("not declared in this version, not read: %s", ", ".join(sorted(set(values) - set(known))))
 
 
 def _history(handle, row: int) -> list[dict]:
@@ -174,7 +191,7 @@ def read_group(node) -> Result:
         n = len(cols.get("residual", []))
         history = [{c: plain(v[i]) for c, v in cols.items()} for i in range(n)]
     reference = {k: v[()] for k, v in node["reference"].items()} if "reference" in node else {}
-    return Result(
+    result = Result(
         x=node["x"][()],
         weights=node["weights"][()],
         p_n=node["p_n"][()],
@@ -182,11 +199,12 @@ def read_group(node) -> Result:
         delta_n=node["delta_n"][()],
         s_t=node["s_t"][()],
         state=node["state"][()],
-        attributes=attrs,
         history=history,
         reference=reference,
         case_toml=plain(node.attrs.get("case", "")),
     )
+    _record(result, attrs)
+    return result
 
 
 def read_result(path: str | os.PathLike, row: int = 0) -> Result:

@@ -261,7 +261,7 @@ class FileRecords(Mapping):
             result = read_case(handle, row, self._table)
             solved = int(handle["nodes"][row]) > 0
         attrs = result.attributes
-        values = {k: attrs.get(k) for k in self.keys}
+        values = {k: result.swept.get(k) for k in self.keys}
         return Record(index, values, result if solved else None, attrs.get("message", ""), attrs.get("time", 0.0))
 
 

@@ -1,4 +1,4 @@
-"""The result of one solve: plain arrays plus scalar attributes.
+"""The result of one solve: plain arrays plus declared, typed scalars (:mod:`.quantities`).
 
 Signs follow the paper: p_n <= 0 in compression; p_t is the traction that body
 B exerts on body A, positive along +x, so Q = sum w p_t is the tangential force
@@ -8,11 +8,27 @@ on A; the slip s_t = (relative slip velocity of A on B) / |V|.
 from __future__ import annotations
 
 import datetime
+from collections.abc import Iterator, MutableMapping
 from dataclasses import dataclass, field
+from typing import Any, TypeVar
 
 import numpy as np
 
-from .grid import node_cell_edges
+from ..grid import node_cell_edges
+from .quantities import (
+    Adaptive,
+    Contact,
+    Convergence,
+    ErrorEstimate,
+    Loads,
+    Model,
+    Provenance,
+    StressMaxima,
+    Timings,
+    declared,
+)
+
+T = TypeVar("T")
 
 STATE_NAMES = {0: "separation", 1: "adhesion", 2: "slip"}
 
@@ -28,14 +44,63 @@ DATASETS = {
 }
 
 
+class ScalarView(MutableMapping):
+    """The recorded scalars of a result as a mapping (name -> value), read and written through.
+
+    Reading gives the quantities recorded (not None); writing one sets the result's field;
+    a name that is not declared in :mod:`rolling_cli.result.quantities` is refused
+    (KeyError), so that nothing reaches a file without its unit and long name. A dotted
+    key (``friction.mu``) reads and writes the result's :attr:`~Result.swept` values;
+    iteration gives the recorded quantities only.
+    """
+
+    __slots__ = ("_result",)
+
+    def __init__(self, result: Result) -> None:
+        self._result = result
+
+    def __getitem__(self, name: str) -> Any:
+        if "." in name:
+            return self._result.swept[name]
+        value = getattr(self._result, name, None) if name in QUANTITIES else None
+        if value is None:
+            raise KeyError(name)
+        return value
+
+    def __setitem__(self, name: str, value: Any) -> None:
+        if "." in name:
+            self._result.swept[name] = value
+            return
+        if name not in QUANTITIES:
+            raise KeyError(f"undeclared result quantity {name!r}: declare it in rolling_cli/result/quantities.py")
+        setattr(self._result, name, value)
+
+    def __delitem__(self, name: str) -> None:
+        self[name]  # KeyError when not recorded
+        if "." in name:
+            del self._result.swept[name]
+        else:
+            setattr(self._result, name, None)
+
+    def __iter__(self) -> Iterator[str]:
+        values = vars(self._result)
+        return (name for name in QUANTITIES if values.get(name) is not None)
+
+    def __len__(self) -> int:
+        return sum(1 for _ in self)
+
+
 @dataclass
-class Result:
-    """Arrays over the n contact nodes and the solve's attributes.
+class Result(Provenance, Convergence, Loads, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima):
+    """Arrays over the n contact nodes and the solve's declared scalars.
 
     Arrays: ``x``, ``weights`` [length]; ``p_n``, ``p_t`` [stress];
     ``delta_n`` [length]; ``s_t`` [-]; ``state`` (int8, :data:`STATE_NAMES`).
-    Scalars (``attributes``): loads P, Q [force/length], creepage, overlap
-    [length] (NaN when undefined), Hertz a [length] and p0 [stress], ...
+    Scalars: the fields of :mod:`rolling_cli.result.quantities` (loads P, Q
+    [force/length], creepage, overlap [length] (NaN when undefined), Hertz a
+    [length] and p0 [stress], ...), each None until recorded; :attr:`attributes`
+    is the mapping of the recorded ones. ``swept``: the swept values of a sweep's
+    case, by dotted key.
     """
 
     x: np.ndarray
@@ -45,19 +110,22 @@ class Result:
     delta_n: np.ndarray
     s_t: np.ndarray
     state: np.ndarray
-    attributes: dict = field(default_factory=dict)
     history: list[dict] = field(default_factory=list)
     reference: dict[str, np.ndarray] = field(default_factory=dict)
     case_toml: str | None = None  # the resolved input case as TOML; None: written from ``case`` when first read
     frictional_power: np.ndarray | None = None  # [stress], rolling_cli.stresses.power
     stresses: dict = field(default_factory=dict)  # body label -> rolling_cli.stresses.compute.BodyStresses
+    swept: dict[str, Any] = field(default_factory=dict)  # dotted key -> value, for a sweep's case
     case: object = field(default=None, repr=False, compare=False)  # the Case of the final mesh level, if solved here
 
-    def __getattr__(self, name: str):
-        attrs = self.__dict__.get("attributes", {})
-        if name in attrs:
-            return attrs[name]
-        raise AttributeError(name)
+    @property
+    def attributes(self) -> ScalarView:
+        """The recorded scalars, name -> value (:class:`ScalarView`: read and written through)."""
+        return ScalarView(self)
+
+    def record(self, **values: Any) -> None:
+        """Record declared quantities (KeyError naming any undeclared one)."""
+        self.attributes.update(values)
 
     def _get_case_toml(self) -> str:
         text = self.__dict__.get("_case_toml")
@@ -66,13 +134,13 @@ class Result:
             if case is None:
                 text = ""
             else:
-                from .case import case_to_toml
+                from ..case import case_to_toml
 
                 try:
                     text = case_to_toml(case)
-                except AttributeError as err:  # not to be taken for a missing attribute (__getattr__)
+                except AttributeError as err:
                     raise RuntimeError(f"the case of this result cannot be written as TOML: {err}") from err
-            self._case_toml = text
+            self.__dict__["_case_toml"] = text
         return text
 
     def _set_case_toml(self, text: str | None) -> None:
@@ -82,15 +150,26 @@ class Result:
     def units(self) -> dict[str, str]:
         """Unit names for "length", "stress", "force/length" and "1"."""
         return {
-            "length": self.attributes.get("unit_length", "length"),
-            "stress": self.attributes.get("unit_stress", "stress"),
-            "force/length": self.attributes.get("unit_line_force", "force/length"),
+            "length": self.unit_length or "length",
+            "stress": self.unit_stress or "stress",
+            "force/length": self.unit_line_force or "force/length",
             "1": "1",
         }
 
     def zones(self) -> list[tuple[str, float, float]]:
         """Contiguous runs of one state as (name, x_start, x_end) [length], node cells included."""
         return state_zones(self.x, self.state)
+
+
+#: Every declared scalar of a result by name (:mod:`rolling_cli.result.quantities`).
+QUANTITIES = declared()
+
+
+def recorded(value: T | None, name: str) -> T:
+    """A quantity a stage needs: its value, or ValueError naming it when it was not recorded."""
+    if value is None:
+        raise ValueError(f"the result has no {name} recorded")
+    return value
 
 
 def state_zones(x: np.ndarray, state: np.ndarray) -> list[tuple[str, float, float]]:
