@@ -21,7 +21,7 @@ import numpy as np
 
 from . import slip
 from .grid import ContactGrid, node_cell_edges
-from .influence import Compliance
+from .influence import Block, Compliance
 
 
 @dataclass(frozen=True)
@@ -45,15 +45,15 @@ class ContactSystem:
     weights: np.ndarray
     spacing: float
     gap0: np.ndarray
-    S_nn: np.ndarray
-    B_tt: np.ndarray
+    S_nn: Block
+    B_tt: Block
     creep_vector: np.ndarray
     gauge: int
     direction: int
     penalty_n: float
     penalty_t: float
-    S_nt: np.ndarray | None = None
-    B_tn: np.ndarray | None = None
+    S_nt: Block | None = None
+    B_tn: Block | None = None
     gauge_tn: np.ndarray | None = None
     gauge_tt: np.ndarray | None = None
     definite_normal: bool = False

@@ -17,7 +17,7 @@ from rolling_cli import pipeline
 from rolling_cli.case import load_case
 from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import build, halfplane
-from rolling_cli.solver import coarse, formulation, krylov, matrix_free, near_field
+from rolling_cli.solver import coarse, formulation, krylov, matrix_free, near_field, reduced
 from rolling_cli.solver.banded import BorderedBandLU, SparseLU
 from rolling_cli.solver.formulation import State
 from rolling_cli.system import build_system
@@ -105,7 +105,7 @@ def _reduced_pair(data, mode: str):
         problem = task.problem(mode)
         ev = formulation.evaluate(problem, state, formulation.traction_scales(problem, state))
         sets = formulation.node_sets(problem, state, ev)
-        out.append(formulation.reduced_system(problem, state, sets, ev))
+        out.append(reduced.reduced_system(problem, state, sets, ev))
     return out
 
 
@@ -143,7 +143,7 @@ def test_reduced_operator_is_the_dense_reduced_system(data, mode):
     assert np.array_equal(scaled[:core][:, border], columns) and np.array_equal(scaled[border][:, :core], rows)
     # the Krylov solve to its round-off target against LU: 1e-9 of the solution (targets ~1e-13, measured 1e-12)
     exact = np.linalg.solve(A, dense.rhs)
-    found = formulation.solve_reduced(fast, fast.rhs)
+    found = reduced.solve_reduced(fast, fast.rhs)
     assert np.max(np.abs(found - exact)) <= 1e-9 * np.max(np.abs(exact))
     residual = op.row_scale * (fast.rhs - op @ found)
     assert np.max(np.abs(residual)) <= matrix_free.STAGNATION_ALLOWANCE * op.target
@@ -176,12 +176,12 @@ def test_a_stalled_krylov_solve_falls_back_to_dense_lu(monkeypatch):
 
     monkeypatch.setattr(matrix_free.krylov, "gmres", stalled)
     record: dict = {}
-    found = formulation.solve_reduced(fast, fast.rhs, record=record)
+    found = reduced.solve_reduced(fast, fast.rhs, record=record)
     assert np.max(np.abs(found - exact)) <= 1e-9 * np.max(np.abs(exact))
     assert record == {"krylov_iterations": 1, "krylov_dense_fallbacks": 1}
     monkeypatch.setattr(matrix_free, "DENSE_FALLBACK", fast.matrix.shape[0] - 1)
     with pytest.raises(np.linalg.LinAlgError):
-        formulation.solve_reduced(fast, fast.rhs)
+        reduced.solve_reduced(fast, fast.rhs)
 
 
 def test_inexact_newton_forcing():
@@ -309,7 +309,7 @@ def test_two_level_preconditioner_on_a_coupled_case(monkeypatch):
     state = State(result.p_n, result.p_t, result.attributes["solved_overlap"], result.creep)
     problem = pipeline._task(case, the_plan, system).problem("coupled")
     ev = formulation.evaluate(problem, state, formulation.traction_scales(problem, state))
-    fast = formulation.reduced_system(problem, state, formulation.node_sets(problem, state, ev), ev)
+    fast = reduced.reduced_system(problem, state, formulation.node_sets(problem, state, ev), ev)
     op = fast.matrix
     assert isinstance(op, matrix_free.ReducedOperator) and op.stick.size and op.col_creep is not None
     exact = op.solve_dense(fast.rhs)

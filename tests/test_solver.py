@@ -14,7 +14,7 @@ import pytest
 from helpers import case_dict, dissimilar
 from rolling_cli import pipeline
 from rolling_cli.case import load_case
-from rolling_cli.solver import continuation, formulation, predictor, strategies
+from rolling_cli.solver import continuation, formulation, predictor, reduced, strategies
 from rolling_cli.solver.budget import Budget, BudgetExhausted
 from rolling_cli.solver.formulation import State
 from rolling_cli.solver.newton import Armijo, NewtonFailure, NonlinearSystem, Watchdog, newton
@@ -176,7 +176,7 @@ def test_converged_solution_is_a_fixed_point_of_the_newton_step(carter_small):
     state = solution.state
     ev = formulation.evaluate(problem, state, formulation.traction_scales(problem, state))
     assert ev.relative_residual <= 1e-10
-    again = formulation.newton_point(problem, state, ev)
+    again = reduced.newton_point(problem, state, ev)
     scale = case.friction.mu * float(np.max(-state.p_n))
     assert np.max(np.abs(again.p_t - state.p_t)) <= 1e-12 * scale
     assert again.creep == pytest.approx(state.creep, rel=1e-10)
@@ -187,12 +187,12 @@ def test_creep_sensitivity_matches_a_difference_quotient_at_fixed_node_states(ca
     held = task.problem("tangential", force=False)
     state = solution.state
     ev = formulation.evaluate(held, state, formulation.traction_scales(held, state))
-    d_q = formulation.creep_sensitivity(held, state, ev)
+    d_q = reduced.creep_sensitivity(held, state, ev)
     # at fixed node states Q is linear in xi: the Newton point at xi + h gives the exact slope
     h = 1e-3 * abs(state.creep)
     shifted = state.copy()
     shifted.creep += h
-    moved = formulation.newton_point(held, shifted, ev)
+    moved = reduced.newton_point(held, shifted, ev)
     slope = float(system.weights @ (moved.p_t - state.p_t)) / h
     assert d_q == pytest.approx(slope, rel=1e-8)
     assert d_q < 0.0  # Q falls as the creepage rises

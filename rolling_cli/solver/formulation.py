@@ -14,7 +14,7 @@ The generalised Jacobian (eq. 36-39) depends on each node's state:
 separation (p_n + r_n delta_n >= 0), adhesion (|p_t - r_t s_t| < g) or slip.
 Because the elastic rows are linear, the Newton step with the Jacobian of the
 current states is the exact solution of a linear system on the contact nodes
-only (:func:`newton_point`):
+only (:func:`rolling_cli.solver.reduced.newton_point`):
 
 * separation: p_n = p_t = 0;
 * contact: delta_n = 0;
@@ -42,7 +42,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..system import ContactSystem, abs_row_sum_max
-from .linalg import solve_dense
 
 MODES = ("coupled", "normal", "tangential")
 
@@ -115,6 +114,8 @@ class Problem:
 
     def force_target(self, p_n: np.ndarray) -> tuple[float, np.ndarray | None]:
         """Q_target [force/length] and, when it depends on p_n, its gradient d Q_target / d p_n."""
+        if self.force is None:
+            raise ValueError("no tangential force is prescribed")
         kind, value = self.force
         if kind == "load":
             return value, None
@@ -322,9 +323,9 @@ def evaluate(problem: Problem, state: State, scales: Scales, cold: bool = False)
     """
     system = problem.system
     mu = problem.mu
-    gap = system.gap(state.p_n, state.p_t, state.overlap) if problem.normal else None
-    slip_t = system.slip(state.p_n, state.p_t, state.creep) if problem.tangential else None
+    gap = slip_t = None
     if problem.normal:
+        gap = system.gap(state.p_n, state.p_t, state.overlap)
         lam_n = state.p_n + system.penalty_n * gap
         contact = contact_from_pressure(state.p_n) if cold else lam_n < 0.0
         bound = -mu * np.minimum(0.0, state.p_n if cold else lam_n)
@@ -336,6 +337,7 @@ def evaluate(problem: Problem, state: State, scales: Scales, cold: bool = False)
         F_n = np.zeros_like(state.p_n)
         bound = bound_ref = -mu * np.minimum(0.0, state.p_n)
     if problem.tangential:
+        slip_t = system.slip(state.p_n, state.p_t, state.creep)
         lam_t = state.p_t - system.penalty_t * slip_t
         stick = contact & (adhesion_by_projection(lam_t, bound) | reversal_through_adhesion(state.p_t, lam_t))
         sigma = np.where(contact & ~stick, np.sign(lam_t), 0.0)
@@ -347,7 +349,7 @@ def evaluate(problem: Problem, state: State, scales: Scales, cold: bool = False)
         F_t = np.zeros_like(state.p_t)
         margin = None
     F_load = 0.0
-    if problem.overlap_unknown:
+    if problem.overlap_unknown and problem.load is not None:
         F_load = (float(system.weights @ state.p_n) + problem.load) / system.zone_length
     F_force = 0.0
     if problem.creep_unknown:
@@ -371,10 +373,10 @@ def node_sets(problem: Problem, state: State, ev: Evaluation) -> NodeSets:
     :func:`full_slip_safeguard` applied."""
     system = problem.system
     contact = ev.contact.copy()
-    if problem.normal and not contact.any():
+    if problem.normal and ev.gap is not None and not contact.any():
         contact[nearest_contact(state.p_n, ev.gap, system.penalty_n)] = True
     stick = ev.stick & contact
-    if problem.creep_unknown and contact.any() and not stick.any():
+    if problem.creep_unknown and ev.slip_margin is not None and contact.any() and not stick.any():
         target, _ = problem.force_target(state.p_n)
         full_slip = float(system.weights @ (ev.sigma * ev.friction_bound))
         stick = full_slip_safeguard(contact, ev.slip_margin, ev.friction_bound, system.weights, abs(target - full_slip))
@@ -383,206 +385,31 @@ def node_sets(problem: Problem, state: State, ev: Evaluation) -> NodeSets:
     return NodeSets(np.flatnonzero(contact), np.flatnonzero(stick), np.flatnonzero(slipping), sigma)
 
 
-# --- the reduced Newton system ------------------------------------------------------------------------
-
-
-def _index(idx: np.ndarray):
-    """A slice when the index set is one contiguous run (the usual contact or adhesion zone), else the
-    index array: slicing a block is a view, several times cheaper than a fancy-index gather."""
-    if idx.size and idx[-1] - idx[0] + 1 == idx.size:
-        return slice(int(idx[0]), int(idx[-1]) + 1)
-    return idx
-
-
-def _block(matrix: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-    """matrix[rows][:, cols] for index arrays."""
-    r, c = _index(rows), _index(cols)
-    if isinstance(r, slice) and isinstance(c, slice):
-        return matrix[r, c]
-    if isinstance(r, slice):
-        return matrix[r][:, c]
-    if isinstance(c, slice):
-        return matrix[r, c]
-    return matrix[np.ix_(r, c)]
-
-
 @dataclass
-class ReducedSystem:
-    """The linear system of the current node states, A z = rhs, and how z maps back to a state.
+class Layout:
+    """The unknowns, right-hand side and bookkeeping of one reduced system (see
+    :class:`~rolling_cli.solver.reduced.ReducedSystem`): ``nc``, ``ns`` unknowns of p_n on ``contact`` and p_t on
+    ``stick`` (none where that traction is held), the overlap and creepage columns,
+    ``coef`` (p_t = coef p_n on the slip nodes, coupled mode), ``p_t_slip`` (the known
+    slip tractions, tangential mode), ``creep_vector`` on the adhesion rows, ``force_row_n``
+    (the force row's entries on the p_n unknowns, coupled force control)."""
 
-    Unknowns z = [p_n on contact | p_t on adhesion | r_n overlap? | r_t creep?], all in
-    stress units; rows r_n delta_n = 0 (contact), r_t s_t = 0 (adhesion), the load and
-    the tangential force equations divided by the zone length. ``creep_column`` is
-    d rhs / d xi when the creepage is held (the sensitivity of the solution to xi).
-    ``matrix`` is dense, or a :class:`~rolling_cli.solver.matrix_free.ReducedOperator`
-    on a matrix-free system.
-    """
-
-    matrix: np.ndarray
-    rhs: np.ndarray
-    sets: NodeSets
-    coef: np.ndarray | None
-    p_t_slip: np.ndarray | None
+    contact: np.ndarray
+    stick: np.ndarray
+    size: int
     col_overlap: int | None
     col_creep: int | None
-    creep_column: np.ndarray | None = None
+    coef: np.ndarray | None
+    p_t_slip: np.ndarray | None
+    creep_vector: np.ndarray | None
+    force_row_n: np.ndarray | None
+    rhs: np.ndarray
+    creep_column: np.ndarray | None
 
+    @property
+    def nc(self) -> int:
+        return int(self.contact.size)
 
-def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> ReducedSystem:
-    """Assemble the reduced Newton system of the node sets (see :class:`ReducedSystem`).
-
-    On a matrix-free system (:attr:`~rolling_cli.system.ContactSystem.matrix_free`) the
-    matrix is an operator, :class:`~rolling_cli.solver.matrix_free.ReducedOperator`, with
-    the same rows; :func:`solve_reduced` solves either.
-    """
-    system = problem.system
-    if system.matrix_free:
-        from . import matrix_free
-
-        return matrix_free.reduced_system(problem, state, sets, ev)
-    mu = problem.mu
-    c_idx, st_idx, sl_idx, sigma = sets.contact, sets.stick, sets.slip, sets.sigma
-    r_n, r_t = system.penalty_n, system.penalty_t
-    lz = system.zone_length
-    w = system.weights
-    overlap_unknown = problem.overlap_unknown
-    creep_unknown = problem.creep_unknown
-    nc = c_idx.size if problem.normal else 0
-    ns = st_idx.size if problem.tangential else 0
-    size = nc + ns + overlap_unknown + creep_unknown
-    A = np.zeros((size, size), order="F")  # LAPACK layout: no copy before the LU
-    rhs = np.zeros(size)
-    rows_n = slice(0, nc)
-    rows_t = slice(nc, nc + ns)
-    k = nc + ns
-    col_overlap = k if overlap_unknown else None
-    k += overlap_unknown
-    col_creep = k if creep_unknown else None
-    creep_column = None
-
-    # p_t on slip nodes: coupled -> coef * p_n (unknown); tangential -> sigma g (known)
-    coef = -mu * sigma[c_idx] if problem.mode == "coupled" else None
-    p_t_slip = sigma[sl_idx] * ev.friction_bound[sl_idx] if problem.mode == "tangential" else None
-
-    if problem.normal:
-        a_nn = _block(system.S_nn, c_idx, c_idx)
-        if system.S_nt is not None and coef is not None:
-            a_nn = a_nn + _block(system.S_nt, c_idx, c_idx) * coef[None, :]
-        A[rows_n, :nc] = r_n * a_nn
-        fixed = system.gap0[c_idx] - (0.0 if overlap_unknown else state.overlap)
-        if system.S_nt is not None:
-            if problem.tangential:
-                A[rows_n, nc : nc + ns] = r_n * _block(system.S_nt, c_idx, st_idx)
-            else:
-                fixed = fixed + system.S_nt[c_idx] @ state.p_t
-        rhs[rows_n] = -r_n * fixed
-        if overlap_unknown:  # unknown r_n * overlap, in stress units like the tractions
-            A[rows_n, col_overlap] = -1.0
-            A[col_overlap, :nc] = w[c_idx] / lz
-            rhs[col_overlap] = -problem.load / lz
-    if problem.tangential:
-        A[rows_t, nc : nc + ns] = r_t * _block(system.B_tt, st_idx, st_idx)
-        e = system.creep_vector[st_idx]
-        fixed = np.zeros(ns) if creep_unknown else state.creep * e
-        if problem.normal:
-            a_tn = _block(system.B_tt, st_idx, c_idx) * coef[None, :]
-            if system.B_tn is not None:
-                a_tn = a_tn + _block(system.B_tn, st_idx, c_idx)
-            A[rows_t, :nc] = r_t * a_tn
-        else:
-            fixed = fixed + _block(system.B_tt, st_idx, sl_idx) @ p_t_slip
-            if system.B_tn is not None:
-                fixed = fixed + system.B_tn[st_idx] @ state.p_n
-        rhs[rows_t] = -r_t * fixed
-        if creep_unknown:  # unknown r_t * creep, in stress units like the tractions
-            A[rows_t, col_creep] = e
-            target, d_target = problem.force_target(state.p_n)
-            A[col_creep, nc : nc + ns] = w[st_idx] / lz
-            if problem.normal:
-                row = w[c_idx] * coef
-                if d_target is not None:
-                    row = row - d_target[c_idx]
-                A[col_creep, :nc] = row / lz
-                rhs[col_creep] = target / lz if d_target is None else 0.0
-            else:
-                rhs[col_creep] = (target - float(w[sl_idx] @ p_t_slip)) / lz
-        else:
-            creep_column = np.zeros(size)
-            creep_column[rows_t] = -r_t * e
-    return ReducedSystem(A, rhs, sets, coef, p_t_slip, col_overlap, col_creep, creep_column)
-
-
-def state_from_solution(problem: Problem, state: State, reduced: ReducedSystem, z: np.ndarray) -> State:
-    """The state whose unknowns are the reduced solution ``z`` (the others from ``state``)."""
-    sets = reduced.sets
-    nc = sets.contact.size if problem.normal else 0
-    ns = sets.stick.size if problem.tangential else 0
-    new = state.copy()
-    if problem.normal:
-        new.p_n = np.zeros_like(state.p_n)
-        new.p_n[sets.contact] = z[:nc]
-    if problem.tangential:
-        new.p_t = np.zeros_like(state.p_t)
-        new.p_t[sets.stick] = z[nc : nc + ns]
-        if reduced.coef is not None:
-            new.p_t[sets.slip] = reduced.coef[np.searchsorted(sets.contact, sets.slip)] * new.p_n[sets.slip]
-        else:
-            new.p_t[sets.slip] = reduced.p_t_slip
-    if reduced.col_overlap is not None:
-        new.overlap = float(z[reduced.col_overlap]) / problem.system.penalty_n
-    if reduced.col_creep is not None:
-        new.creep = float(z[reduced.col_creep]) / problem.system.penalty_t
-    return new
-
-
-def solve_reduced(
-    reduced: ReducedSystem, rhs: np.ndarray, residual: float | None = None, record: dict | None = None
-) -> np.ndarray:
-    """The solution z of ``reduced.matrix`` z = ``rhs``.
-
-    A dense matrix: LU (:func:`~rolling_cli.solver.linalg.solve_dense`). A matrix-free
-    system: the preconditioned Krylov solve (:meth:`~rolling_cli.solver.matrix_free.ReducedOperator.solve`)
-    to the accuracy a dense LU reaches or, for a Newton step from an iterate of relative
-    residual ``residual``, to the forcing target of an inexact Newton method
-    (:func:`~rolling_cli.solver.matrix_free.forcing_target`), starting from that iterate.
-    ``record`` (optional dict) receives a Krylov solve's counts (history columns).
-    """
-    if isinstance(reduced.matrix, np.ndarray):
-        return solve_dense(reduced.matrix, rhs)
-    if residual is None:
-        return reduced.matrix.solve(rhs, record=record)
-    from .matrix_free import forcing_target
-
-    return reduced.matrix.solve(rhs, reduced.matrix.guess, forcing_target(residual), record=record)
-
-
-def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | None = None) -> State:
-    """The Newton point: the solution of the linear system of the current node states (exact, or
-    on a matrix-free system to the forcing target of :func:`solve_reduced`). ``record`` receives
-    the linear solve's counts (Krylov only), for the step's history row."""
-    reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
-    dz = solve_reduced(reduced, reduced.rhs, ev.relative_residual, record)
-    return state_from_solution(problem, state, reduced, dz)
-
-
-def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
-    """dQ/dxi [force/length] at fixed node states, from the reduced Jacobian (creepage held).
-
-    The reduced system is linear in xi with d rhs / d xi = ``creep_column``; the
-    derivative of the solution gives dp_t/dxi on the adhesion nodes, and on slip
-    nodes through p_n (coupled mode). Returns sum w dp_t/dxi.
-    """
-    if problem.creep_unknown or not problem.tangential:
-        raise ValueError("the creep sensitivity needs a tangential problem with the creepage held")
-    sets = node_sets(problem, state, ev)
-    reduced = reduced_system(problem, state, sets, ev)
-    dz = solve_reduced(reduced, reduced.creep_column)
-    nc = sets.contact.size if problem.normal else 0
-    ns = sets.stick.size
-    w = problem.system.weights
-    d_q = float(w[sets.stick] @ dz[nc : nc + ns])
-    if reduced.coef is not None:
-        dp_n = np.zeros_like(state.p_n)
-        dp_n[sets.contact] = dz[:nc]
-        d_q += float(w[sets.slip] @ (reduced.coef[np.searchsorted(sets.contact, sets.slip)] * dp_n[sets.slip]))
-    return d_q
+    @property
+    def ns(self) -> int:
+        return int(self.stick.size)

@@ -1,6 +1,6 @@
 """The reduced Newton system without its matrix (large uniform half-plane grids).
 
-The system is :func:`rolling_cli.solver.formulation.reduced_system`'s, row for
+The system is :func:`rolling_cli.solver.reduced.reduced_system`'s, row for
 row: contact rows r_n delta_n = 0, adhesion rows r_t s_t = 0, the load and
 force rows, unknowns z = [p_n on contact | p_t on adhesion | r_n overlap? |
 r_t creep?]. Its dense matrix would hold (2 n_c)^2 entries; here it is an
@@ -51,9 +51,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..influence.toeplitz import apply_sum, gather, products
+from ..influence.toeplitz import gather, products
 from . import coarse, krylov, near_field
-from .formulation import Evaluation, NodeSets, Problem, ReducedSystem, State, roundoff_floor
+from .formulation import Evaluation, Layout, Problem, State, roundoff_floor
 
 log = logging.getLogger(__name__)
 
@@ -185,16 +185,17 @@ class ReducedOperator:
         out = np.zeros(np.shape(i))
         if self.problem.normal:
             diff = self._differenced()
-            with_t = coef is not None and system.coupled
             normal_ops = [system.S_nn, system.S_nt] if system.coupled else [system.S_nn]
-            col_coef = np.where(col_n, coef[np.minimum(j, nc - 1)], 0.0) if with_t else None
+            col_coef = (
+                np.where(col_n, coef[np.minimum(j, nc - 1)], 0.0) if coef is not None and system.coupled else None
+            )
 
             def normal(rows_at, pick):
                 """Contact rows at nodes ``rows_at`` (before r_n), for the entries ``pick``."""
                 found = gather(normal_ops, rows_at, node_j[pick])
                 cols_n = col_n[pick]
                 value = np.where(cols_n, found[0], found[1] if system.coupled else 0.0)  # p_t columns: S_nt
-                if with_t:
+                if col_coef is not None:
                     value += np.where(cols_n, found[1] * col_coef[pick], 0.0)
                 return value
 
@@ -213,8 +214,8 @@ class ReducedOperator:
                 ops = [system.B_tt, system.B_tn] if system.coupled else [system.B_tt]
                 found = gather(ops, at, nodes)
                 value = found[0]
-                factor = np.where(cols_n, coef[np.minimum(j[rows], nc - 1)], 1.0)
-                value *= factor
+                if coef is not None:  # p_n columns of adhesion rows: the coupled mode's slip nodes
+                    value *= np.where(cols_n, coef[np.minimum(j[rows], nc - 1)], 1.0)
                 if system.coupled:
                     value += np.where(cols_n, found[1], 0.0)
             else:
@@ -321,85 +322,40 @@ def forcing_target(residual: float) -> float:
     return FORCING * residual if residual >= FORCING_FROM else 0.0
 
 
-def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> ReducedSystem:
-    """The reduced Newton system of the node sets with a :class:`ReducedOperator` as its matrix
-    (the right-hand sides as :func:`~rolling_cli.solver.formulation.reduced_system`'s)."""
+def operator(problem: Problem, state: State, lay: Layout, ev: Evaluation) -> ReducedOperator:
+    """The reduced matrix of a layout (:func:`~rolling_cli.solver.reduced.layout`) as a
+    :class:`ReducedOperator`: rows scaled by the traction scales, the iterate's unknowns as the
+    Krylov guess, the solve's target no lower than the round-off floor."""
     system = problem.system
-    mu = problem.mu
-    c_idx, st_idx, sl_idx, sigma = sets.contact, sets.stick, sets.slip, sets.sigma
-    r_n, r_t = system.penalty_n, system.penalty_t
-    lz = system.zone_length
-    w = system.weights
-    overlap_unknown, creep_unknown = problem.overlap_unknown, problem.creep_unknown
-    contact = c_idx if problem.normal else c_idx[:0]
-    stick = st_idx if problem.tangential else st_idx[:0]
-    nc, ns = contact.size, stick.size
-    size = nc + ns + overlap_unknown + creep_unknown
-    col_overlap = nc + ns if overlap_unknown else None
-    col_creep = nc + ns + overlap_unknown if creep_unknown else None
-    coef = -mu * sigma[c_idx] if problem.mode == "coupled" else None
-    p_t_slip = sigma[sl_idx] * ev.friction_bound[sl_idx] if problem.mode == "tangential" else None
-    rhs = np.zeros(size)
-    row_scale = np.empty(size)
-    guess = np.zeros(size)
-    creep_column = None
-    force_row_n = None
+    nc, ns = lay.nc, lay.ns
     s_n, s_t = ev.scales.normal, ev.scales.tangential
+    row_scale = np.empty(lay.size)
+    guess = np.zeros(lay.size)
     if problem.normal:
         row_scale[:nc] = 1.0 / s_n
-        guess[:nc] = state.p_n[contact]
-        fixed = system.gap0[contact] - (0.0 if overlap_unknown else state.overlap)
-        if system.S_nt is not None and not problem.tangential:
-            fixed = fixed + (system.S_nt @ state.p_t)[contact]
-        rhs[:nc] = -r_n * fixed
-        if overlap_unknown:
-            rhs[col_overlap] = -problem.load / lz
-            row_scale[col_overlap] = 1.0 / s_n
-            guess[col_overlap] = r_n * state.overlap
+        guess[:nc] = state.p_n[lay.contact]
+        if lay.col_overlap is not None:
+            row_scale[lay.col_overlap] = 1.0 / s_n
+            guess[lay.col_overlap] = system.penalty_n * state.overlap
     if problem.tangential:
         row_scale[nc : nc + ns] = 1.0 / s_t
-        guess[nc : nc + ns] = state.p_t[stick]
-        e = system.creep_vector[stick]
-        fixed = np.zeros(ns) if creep_unknown else state.creep * e
-        if not problem.normal:
-            p_t = np.zeros(system.size)
-            p_t[sl_idx] = p_t_slip
-            terms = [(system.B_tt, p_t)]
-            if system.B_tn is not None:
-                terms.append((system.B_tn, state.p_n))
-            fixed = fixed + apply_sum(terms)[stick]
-        rhs[nc : nc + ns] = -r_t * fixed
-        if creep_unknown:
-            row_scale[col_creep] = 1.0 / s_t
-            guess[col_creep] = r_t * state.creep
-            target, d_target = problem.force_target(state.p_n)
-            if problem.normal:
-                force_row_n = w[contact] * coef
-                if d_target is not None:
-                    force_row_n = force_row_n - d_target[contact]
-                rhs[col_creep] = target / lz if d_target is None else 0.0
-            else:
-                rhs[col_creep] = (target - float(w[sl_idx] @ p_t_slip)) / lz
-        else:
-            creep_column = np.zeros(size)
-            creep_column[nc : nc + ns] = -r_t * e
+        guess[nc : nc + ns] = state.p_t[lay.stick]
+        if lay.col_creep is not None:
+            row_scale[lay.col_creep] = 1.0 / s_t
+            guess[lay.col_creep] = system.penalty_t * state.creep
     floor = roundoff_floor(problem, ev.scales)
-    operator = ReducedOperator(
+    return ReducedOperator(
         problem,
-        contact,
-        stick,
-        coef,
-        col_overlap,
-        col_creep,
-        force_row_n,
+        lay.contact,
+        lay.stick,
+        lay.coef,
+        lay.col_overlap,
+        lay.col_creep,
+        lay.force_row_n,
         row_scale,
         max(KRYLOV_TOLERANCE, floor),
         guess,
     )
-    return ReducedSystem(operator, rhs, sets, coef, p_t_slip, col_overlap, col_creep, creep_column)
-
-
-# --- statistics of one solve (result attributes) -------------------------------------------------
 
 
 def result_attributes(system, history: list[dict]) -> dict:

@@ -144,6 +144,8 @@ class Watchdog:
             return target_x, target, 1.0
         track.free = 0
         best_x, best = track.best_x, track.best
+        if track.best_target is None:  # no step from the best iterate to go back to
+            raise _Stagnation
         best_target_x, best_target = track.best_target
         x, point, alpha, decreased = _backtrack(system, best_x, best, best_target_x, best_target, self.backtracks)
         if not decreased:

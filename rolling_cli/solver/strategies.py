@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..system import ContactSystem
-from . import continuation, formulation, predictor
+from . import continuation, formulation, predictor, reduced
 from .budget import Budget, BudgetExhausted
 from .formulation import Evaluation, Problem, State
 from .newton import Armijo, NewtonFailure, NonlinearSystem, Watchdog, newton
@@ -146,7 +146,7 @@ def _nonlinear(problem: Problem, scales: formulation.Scales) -> NonlinearSystem:
 
     def step(x, ev):
         linear.clear()
-        return formulation.newton_point(problem, State.unpack(x), ev, linear).pack()
+        return reduced.newton_point(problem, State.unpack(x), ev, linear).pack()
 
     def describe(x, ev):
         return {
@@ -253,8 +253,12 @@ def scaled_coupling(system: ContactSystem, kappa: float) -> ContactSystem:
         return system
     if kappa == 0.0:
         return dataclasses.replace(system, S_nt=None, B_tn=None, gauge_tn=None)
+
+    def scaled(block):
+        return None if block is None else kappa * block
+
     return dataclasses.replace(
-        system, S_nt=kappa * system.S_nt, B_tn=kappa * system.B_tn, gauge_tn=kappa * system.gauge_tn
+        system, S_nt=scaled(system.S_nt), B_tn=scaled(system.B_tn), gauge_tn=scaled(system.gauge_tn)
     )
 
 
@@ -379,7 +383,7 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
             hi = xi if hi is None else min(hi, xi)
         try:
             budget.take()
-            d_q = formulation.creep_sensitivity(held, current, inner.evaluation)
+            d_q = reduced.creep_sensitivity(held, current, inner.evaluation)
         except BudgetExhausted:
             raise StrategyFailed(name, "budget", "budget", current, abs(f)) from None
         except np.linalg.LinAlgError:  # a singular sensitivity system: bracketing alone
@@ -491,9 +495,7 @@ def restarted(strategy: Strategy, start: State) -> Strategy:
     return bound
 
 
-def default(
-    task: Task, settle: bool = False, restart: State | None = None, restart_settle: bool = False
-) -> Strategy:
+def default(task: Task, settle: bool = False, restart: State | None = None, restart_settle: bool = False) -> Strategy:
     """The strategy for a task.
 
     Newton on the task's own formulation with the watchdog first (for a coupled

@@ -1,0 +1,263 @@
+"""The reduced Newton system of the current node states, A z = rhs, written once.
+
+:func:`layout` fixes the unknowns, the right-hand side and the bookkeeping of
+the system (which the dense and the matrix-free paths share); its matrix is
+assembled dense from the compliance blocks (:func:`dense_matrix`), or is a
+:class:`~rolling_cli.solver.matrix_free.ReducedOperator` on a matrix-free
+system. :func:`solve_reduced` solves either; :func:`newton_point` is the
+generalised Newton step of :mod:`rolling_cli.solver.formulation`, and
+:func:`creep_sensitivity` the derivative dQ/dxi at fixed node states.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..influence.toeplitz import apply_sum
+from .formulation import Evaluation, Layout, NodeSets, Problem, State, node_sets
+from .linalg import solve_dense
+
+if TYPE_CHECKING:  # the matrix-free path is imported only when a system uses it (start-up time)
+    from .matrix_free import ReducedOperator
+
+
+@dataclass
+class ReducedSystem:
+    """The linear system of the current node states, A z = rhs, and how z maps back to a state.
+
+    Unknowns z = [p_n on contact | p_t on adhesion | r_n overlap? | r_t creep?], all in
+    stress units; rows r_n delta_n = 0 (contact), r_t s_t = 0 (adhesion), the load and
+    the tangential force equations divided by the zone length. ``creep_column`` is
+    d rhs / d xi when the creepage is held (the sensitivity of the solution to xi).
+    ``matrix`` is dense, or a :class:`~rolling_cli.solver.matrix_free.ReducedOperator`
+    on a matrix-free system.
+    """
+
+    matrix: np.ndarray | ReducedOperator
+    rhs: np.ndarray
+    sets: NodeSets
+    coef: np.ndarray | None
+    p_t_slip: np.ndarray | None
+    col_overlap: int | None
+    col_creep: int | None
+    creep_column: np.ndarray | None = None
+
+
+def layout(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> Layout:
+    """The unknowns and the right-hand side [stress] of the reduced system of ``sets``."""
+    system = problem.system
+    c_idx, st_idx, sl_idx, sigma = sets.contact, sets.stick, sets.slip, sets.sigma
+    r_n, r_t = system.penalty_n, system.penalty_t
+    lz = system.zone_length
+    w = system.weights
+    overlap_unknown, creep_unknown = problem.overlap_unknown, problem.creep_unknown
+    contact = c_idx if problem.normal else c_idx[:0]
+    stick = st_idx if problem.tangential else st_idx[:0]
+    nc, ns = contact.size, stick.size
+    size = nc + ns + overlap_unknown + creep_unknown
+    col_overlap = nc + ns if overlap_unknown else None
+    col_creep = nc + ns + overlap_unknown if creep_unknown else None
+    # p_t on slip nodes: coupled -> coef * p_n (unknown); tangential -> sigma g (known)
+    coef = -problem.mu * sigma[c_idx] if problem.mode == "coupled" else None
+    p_t_slip = sigma[sl_idx] * ev.friction_bound[sl_idx] if problem.mode == "tangential" else None
+    rhs = np.zeros(size)
+    creep_column = force_row_n = e = None
+    if problem.normal:
+        fixed = system.gap0[contact] - (0.0 if overlap_unknown else state.overlap)
+        if system.S_nt is not None and not problem.tangential:
+            fixed = fixed + _rows_times(system, system.S_nt, contact, state.p_t)
+        rhs[:nc] = -r_n * fixed
+        if col_overlap is not None and problem.load is not None:
+            rhs[col_overlap] = -problem.load / lz
+    if problem.tangential:
+        e = system.creep_vector[stick]
+        fixed = np.zeros(ns) if creep_unknown else state.creep * e
+        if not problem.normal:
+            fixed = fixed + _slip_terms(system, stick, sl_idx, p_t_slip, state.p_n)
+        rhs[nc : nc + ns] = -r_t * fixed
+        if creep_unknown:
+            target, d_target = problem.force_target(state.p_n)
+            if problem.normal:
+                force_row_n = w[contact] * coef
+                if d_target is not None:
+                    force_row_n = force_row_n - d_target[contact]
+                rhs[col_creep] = target / lz if d_target is None else 0.0
+            else:
+                rhs[col_creep] = (target - float(w[sl_idx] @ p_t_slip)) / lz
+        else:
+            creep_column = np.zeros(size)
+            creep_column[nc : nc + ns] = -r_t * e
+    return Layout(contact, stick, size, col_overlap, col_creep, coef, p_t_slip, e, force_row_n, rhs, creep_column)
+
+
+def _rows_times(system, block, rows: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """(block @ values)[rows]: the rows' products with a dense block, or one operator product."""
+    if system.matrix_free:
+        return (block @ values)[rows]
+    return block[rows] @ values
+
+
+def _slip_terms(system, stick: np.ndarray, slip: np.ndarray, p_t_slip, p_n: np.ndarray) -> np.ndarray:
+    """The adhesion rows' slip from the known slip tractions and the held pressure (tangential mode)."""
+    if system.matrix_free:
+        p_t = np.zeros(system.size)
+        p_t[slip] = p_t_slip
+        terms = [(system.B_tt, p_t)]
+        if system.B_tn is not None:
+            terms.append((system.B_tn, p_n))
+        return apply_sum(terms)[stick]
+    out = _block(system.B_tt, stick, slip) @ p_t_slip
+    if system.B_tn is not None:
+        out = out + system.B_tn[stick] @ p_n
+    return out
+
+
+def dense_matrix(problem: Problem, lay: Layout) -> np.ndarray:
+    """The reduced matrix A [stress/stress] of a layout, from the dense compliance blocks."""
+    system = problem.system
+    r_n, r_t, lz, w = system.penalty_n, system.penalty_t, system.zone_length, system.weights
+    c_idx, st_idx, coef = lay.contact, lay.stick, lay.coef
+    nc, ns = lay.nc, lay.ns
+    A = np.zeros((lay.size, lay.size), order="F")  # LAPACK layout: no copy before the LU
+    rows_n, rows_t = slice(0, nc), slice(nc, nc + ns)
+    if problem.normal:
+        a_nn = _block(system.S_nn, c_idx, c_idx)
+        if system.S_nt is not None and coef is not None:
+            a_nn = a_nn + _block(system.S_nt, c_idx, c_idx) * coef[None, :]
+        A[rows_n, :nc] = r_n * a_nn
+        if system.S_nt is not None and problem.tangential:
+            A[rows_n, nc : nc + ns] = r_n * _block(system.S_nt, c_idx, st_idx)
+        if lay.col_overlap is not None:  # unknown r_n * overlap, in stress units like the tractions
+            A[rows_n, lay.col_overlap] = -1.0
+            A[lay.col_overlap, :nc] = w[c_idx] / lz
+    if problem.tangential:
+        A[rows_t, nc : nc + ns] = r_t * _block(system.B_tt, st_idx, st_idx)
+        if problem.normal and coef is not None:  # the coupled mode
+            a_tn = _block(system.B_tt, st_idx, c_idx) * coef[None, :]
+            if system.B_tn is not None:
+                a_tn = a_tn + _block(system.B_tn, st_idx, c_idx)
+            A[rows_t, :nc] = r_t * a_tn
+        if lay.col_creep is not None:  # unknown r_t * creep, in stress units like the tractions
+            A[rows_t, lay.col_creep] = lay.creep_vector
+            A[lay.col_creep, nc : nc + ns] = w[st_idx] / lz
+            if lay.force_row_n is not None:
+                A[lay.col_creep, :nc] = lay.force_row_n / lz
+    return A
+
+
+def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> ReducedSystem:
+    """The reduced Newton system of the node sets (see :class:`ReducedSystem`): its matrix dense,
+    or on a matrix-free system (:attr:`~rolling_cli.system.ContactSystem.matrix_free`) the
+    operator :class:`~rolling_cli.solver.matrix_free.ReducedOperator`, with the same rows."""
+    lay = layout(problem, state, sets, ev)
+    matrix: np.ndarray | ReducedOperator
+    if problem.system.matrix_free:
+        from . import matrix_free
+
+        matrix = matrix_free.operator(problem, state, lay, ev)
+    else:
+        matrix = dense_matrix(problem, lay)
+    return ReducedSystem(
+        matrix, lay.rhs, sets, lay.coef, lay.p_t_slip, lay.col_overlap, lay.col_creep, lay.creep_column
+    )
+
+
+def _index(idx: np.ndarray):
+    """A slice when the index set is one contiguous run (the usual contact or adhesion zone), else the
+    index array: slicing a block is a view, several times cheaper than a fancy-index gather."""
+    if idx.size and idx[-1] - idx[0] + 1 == idx.size:
+        return slice(int(idx[0]), int(idx[-1]) + 1)
+    return idx
+
+
+def _block(matrix: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """matrix[rows][:, cols] for index arrays."""
+    r, c = _index(rows), _index(cols)
+    if isinstance(r, slice) and isinstance(c, slice):
+        return matrix[r, c]
+    if isinstance(r, slice):
+        return matrix[r][:, c]
+    if isinstance(c, slice):
+        return matrix[r, c]
+    return matrix[np.ix_(r, c)]
+
+
+def state_from_solution(problem: Problem, state: State, reduced: ReducedSystem, z: np.ndarray) -> State:
+    """The state whose unknowns are the reduced solution ``z`` (the others from ``state``)."""
+    sets = reduced.sets
+    nc = sets.contact.size if problem.normal else 0
+    ns = sets.stick.size if problem.tangential else 0
+    new = state.copy()
+    if problem.normal:
+        new.p_n = np.zeros_like(state.p_n)
+        new.p_n[sets.contact] = z[:nc]
+    if problem.tangential:
+        new.p_t = np.zeros_like(state.p_t)
+        new.p_t[sets.stick] = z[nc : nc + ns]
+        if reduced.coef is not None:
+            new.p_t[sets.slip] = reduced.coef[np.searchsorted(sets.contact, sets.slip)] * new.p_n[sets.slip]
+        else:
+            new.p_t[sets.slip] = reduced.p_t_slip
+    if reduced.col_overlap is not None:
+        new.overlap = float(z[reduced.col_overlap]) / problem.system.penalty_n
+    if reduced.col_creep is not None:
+        new.creep = float(z[reduced.col_creep]) / problem.system.penalty_t
+    return new
+
+
+def solve_reduced(
+    reduced: ReducedSystem, rhs: np.ndarray, residual: float | None = None, record: dict | None = None
+) -> np.ndarray:
+    """The solution z of ``reduced.matrix`` z = ``rhs``.
+
+    A dense matrix: LU (:func:`~rolling_cli.solver.linalg.solve_dense`). A matrix-free
+    system: the preconditioned Krylov solve (:meth:`~rolling_cli.solver.matrix_free.ReducedOperator.solve`)
+    to the accuracy a dense LU reaches or, for a Newton step from an iterate of relative
+    residual ``residual``, to the forcing target of an inexact Newton method
+    (:func:`~rolling_cli.solver.matrix_free.forcing_target`), starting from that iterate.
+    ``record`` (optional dict) receives a Krylov solve's counts (history columns).
+    """
+    if isinstance(reduced.matrix, np.ndarray):
+        return solve_dense(reduced.matrix, rhs)
+    if residual is None:
+        return reduced.matrix.solve(rhs, record=record)
+    from .matrix_free import forcing_target
+
+    return reduced.matrix.solve(rhs, reduced.matrix.guess, forcing_target(residual), record=record)
+
+
+def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | None = None) -> State:
+    """The Newton point: the solution of the linear system of the current node states (exact, or
+    on a matrix-free system to the forcing target of :func:`solve_reduced`). ``record`` receives
+    the linear solve's counts (Krylov only), for the step's history row."""
+    reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
+    dz = solve_reduced(reduced, reduced.rhs, ev.relative_residual, record)
+    return state_from_solution(problem, state, reduced, dz)
+
+
+def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
+    """dQ/dxi [force/length] at fixed node states, from the reduced Jacobian (creepage held).
+
+    The reduced system is linear in xi with d rhs / d xi = ``creep_column``; the
+    derivative of the solution gives dp_t/dxi on the adhesion nodes, and on slip
+    nodes through p_n (coupled mode). Returns sum w dp_t/dxi.
+    """
+    if problem.creep_unknown or not problem.tangential:
+        raise ValueError("the creep sensitivity needs a tangential problem with the creepage held")
+    sets = node_sets(problem, state, ev)
+    reduced = reduced_system(problem, state, sets, ev)
+    if reduced.creep_column is None:
+        raise ValueError("the creep sensitivity needs the creepage held")
+    dz = solve_reduced(reduced, reduced.creep_column)
+    nc = sets.contact.size if problem.normal else 0
+    ns = sets.stick.size
+    w = problem.system.weights
+    d_q = float(w[sets.stick] @ dz[nc : nc + ns])
+    if reduced.coef is not None:
+        dp_n = np.zeros_like(state.p_n)
+        dp_n[sets.contact] = dz[:nc]
+        d_q += float(w[sets.slip] @ (reduced.coef[np.searchsorted(sets.contact, sets.slip)] * dp_n[sets.slip]))
+    return d_q
