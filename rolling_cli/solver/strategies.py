@@ -343,6 +343,10 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
     geometrically in the direction of the root. Stops when the force residual is
     below the tolerance (the inner solve converged too); raises when the bracket
     closes to round-off without that (Q jumps) or the budget is spent.
+
+    Over 80 lines for a reason: the bracket, the Newton step and the bisection update one
+    loop state (bracket ends, their residuals, the last converged state), which helpers would
+    have to pass back and forth whole.
     """
     held = problem.held(force=None)
     system = problem.system
