@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from helpers import case_dict, dissimilar, run_cli, write_case
-from rolling_cli import resources
+from rolling_cli import machine, resources
 from rolling_cli.case import load_case
 from rolling_cli.errors import CaseError
 from rolling_cli.grid import ContactGrid
@@ -207,7 +207,7 @@ def test_workers_multiply_the_need(monkeypatch):
 
 def test_available_memory_is_bounded_by_the_kernel():
     found = resources.available_memory()
-    meminfo = resources._read_kib("/proc/meminfo")
+    meminfo = machine._read_kib("/proc/meminfo")
     if "MemAvailable" not in meminfo:
         pytest.skip("no /proc/meminfo here")
     assert 0 < found <= meminfo["MemAvailable"] * 1.05  # both read moments apart
