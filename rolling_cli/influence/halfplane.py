@@ -23,6 +23,8 @@ O(n N_e) work, the size of the matrix itself.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .. import materials
@@ -134,7 +136,7 @@ def sign_matrix(grid: ContactGrid) -> np.ndarray:
 
 def _length_scale(grid: ContactGrid) -> float:
     """Reference length of the log kernel: e * (zone width), so ln(|x - s|/L) < 0 on the zone."""
-    return float(np.e * 2.0 * grid.half_width)
+    return float(math.e * 2.0 * grid.half_width)
 
 
 #: Uniform grids with at least this many contact nodes get :class:`~rolling_cli.influence.toeplitz.BlockToeplitz`
