@@ -60,6 +60,7 @@ from .sweep_spec import (  # noqa: F401  (the sweep API: specifications live in 
     check_resources,
     curve_spec,
     difference,
+    given,
     parse_values,
     spec_from_options,
     spec_from_table,
@@ -150,8 +151,9 @@ def solve_chunk(chunk: list[tuple[int, dict, Case]], warm: bool, use_cache: bool
                 path = CasePath(pipeline.prepare(case, use_cache)[1], warm, use_cache)
             result = path.solve(case, values)
             yield Record(index, values, result, "", time.perf_counter() - start_time)
-        except (RollingError, GrossSlidingError) as err:
-            yield Record(index, values, None, str(err), time.perf_counter() - start_time)
+        except (RollingError, GrossSlidingError) as err:  # quoted with the values as given (a path's step may differ)
+            message = f"sweep case ({given(values)}): {err}"
+            yield Record(index, values, None, message, time.perf_counter() - start_time)
 
 
 def default_workers() -> int:
@@ -163,7 +165,7 @@ def _todo(spec: SweepSpec, done: np.ndarray) -> Iterator[list[tuple[int, dict]]]
     """The cases still to solve as chunks of (index, swept values): runs of one contact system
     (:func:`combo_key`), cut into pieces of at most :data:`CHUNK`; nothing is built here."""
     items = ((i, spec.combination(i)) for i in range(spec.size) if not done[i])
-    for _, group in itertools.groupby(items, key=lambda item: combo_key(item[1])):
+    for _, group in itertools.groupby(items, key=lambda item: (combo_key(item[1]), spec.curve_of(item[0]))):
         while piece := list(itertools.islice(group, CHUNK)):
             yield piece
 

@@ -100,6 +100,11 @@ class SweepSpec:
         """Every case's swept values, in sweep order (lazily)."""
         return (self.combination(i) for i in range(self.size))
 
+    def curve_of(self, index: int) -> int:
+        """The warm-start path case ``index`` is on: one for a plain sweep (a family of curves has one per
+        curve, :class:`~rolling_cli.families.FamilySpec`); chunks never cross paths."""
+        return 0
+
     def describe(self) -> str:
         """The specification as JSON (ranges as ``start:stop:count``): what ``--resume`` compares."""
         values = [v.text() if isinstance(v, Linspace) else list(v) for v in self.values]
@@ -199,13 +204,24 @@ def curve_spec(base: Case, kind: str, points: int) -> SweepSpec:
     return SweepSpec(("tangential.creep",), (Linspace(-1.5 * full, 1.5 * full, points),))
 
 
+def given(combo: dict) -> str:
+    """The swept values of a case as the user gave them: ``key = value, ...``."""
+    return ", ".join(f"{k} = {v!r}" for k, v in combo.items())
+
+
 def build(base: Case, combo: dict) -> Case:
-    """The case of one combination, validated (CaseError names the swept values)."""
+    """The case of one combination, validated, with the checks ``rollc solve`` makes before solving
+    that need no solve (gross sliding: :func:`~rolling_cli.pipeline.check_gross_sliding`). A
+    :class:`CaseError` names the swept keys and the values as given."""
+    from .errors import GrossSlidingError
+    from .pipeline import check_gross_sliding
+
     try:
-        return with_overrides(base, combo)
-    except CaseError as err:
-        shown = ", ".join(f"{k} = {v!r}" for k, v in combo.items())
-        raise CaseError(f"sweep case ({shown}): {err}") from None
+        case = with_overrides(base, combo)
+        check_gross_sliding(case)
+        return case
+    except (CaseError, GrossSlidingError) as err:
+        raise CaseError(f"sweep case ({given(combo)}): {err}") from None
 
 
 def validate(base: Case, spec: SweepSpec) -> dict[int, Case]:
@@ -216,6 +232,10 @@ def validate(base: Case, spec: SweepSpec) -> dict[int, Case]:
     only fail in the run are recorded as failed cases."""
     if spec.size <= VALIDATE_ALL:
         return {index: build(base, combo) for index, combo in enumerate(spec.combinations())}
+    if hasattr(spec, "probes"):  # a family of curves: the ends of its curves
+        for index in spec.probes():
+            build(base, spec.combination(index))
+        return {}
     firsts = {k: v[0] for k, v in zip(spec.keys, spec.values, strict=True)}
     for key, values in zip(spec.keys, spec.values, strict=True):
         picks = range(len(values)) if len(values) <= CHECK_VALUES // 10 else (0, len(values) - 1)
