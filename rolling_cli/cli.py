@@ -346,7 +346,11 @@ def sweep(
         base = load_case(case_file)
         if workers and scheduler:
             raise CaseError("--workers and --scheduler: choose one; allowed: local processes or a Dask cluster")
-        if curve:
+        if curve and settings:
+            from .families import family_spec
+
+            spec = family_spec(base, curve, points, sweeps.spec_from_options(list(settings), zipped))
+        elif curve:
             spec = sweeps.curve_spec(base, curve, points)
         elif settings:
             spec = sweeps.spec_from_options(list(settings), zipped)
