@@ -178,10 +178,11 @@ def solve_items(
     validates only its values and corners up front) is a failed record, and the warm-start chain
     restarts after it. Runs where the chunk runs: in this process, a worker process or a cluster task."""
     run: list[tuple[int, dict, Case]] = []
+    fits: set = set()
     for index, combo in items:
         try:
             case = built.pop(index, None) if built else None
-            run.append((index, combo, case if case is not None else build(base, combo)))
+            run.append((index, combo, case if case is not None else build(base, combo, fits)))
         except CaseError as err:
             yield from solve_chunk(run, warm, use_cache)
             run = []

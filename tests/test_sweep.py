@@ -354,3 +354,24 @@ def test_shipped_sweep_case(tmp_path):
     result = _run("-q", "sweep", CASES / "paper_fig4.toml", "-o", out, "--workers", 1)
     assert result.exit_code == 0, result.output
     assert list(_table(out)["friction_mu"]) == [0.1, 0.2, 0.3, 0.4]
+
+
+def test_a_case_beyond_the_memory_is_refused_before_any_solve(monkeypatch, tmp_path):
+    """rollc solve's memory check runs on every contact system of a sweep first: the case that does
+    not fit is named by its key and value, before anything is solved."""
+    from rolling_cli import pipeline, resources
+
+    base = load_case(case_dict(SMALL))
+    small = resources.estimate(base).bytes
+    big = resources.estimate(sweep.build(base, {"discretization.contact_elements": 400})).bytes
+    assert big > 2 * small
+    monkeypatch.setattr(resources, "available_memory", lambda: (small + big) / 2)  # 40 elements fit, 400 do not
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("a case was solved")
+
+    monkeypatch.setattr(pipeline, "prepare", no_solve)
+    spec = sweep.spec_from_options(["discretization.contact_elements=40,400"], False)
+    with pytest.raises(CaseError, match=r"^sweep case \(discretization.contact_elements = 400\): "):
+        sweep.run(base, spec, str(tmp_path / "s.h5"))
+    assert not (tmp_path / "s.h5").exists()
