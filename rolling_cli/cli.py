@@ -366,7 +366,8 @@ class Progress:
 @click.option(
     "--curve",
     type=click.Choice(["load", "creep"]),
-    help="Creep-force curve: sweep Q/(mu P) over -0.99..0.99, or the creepage over 1.5x full slip.",
+    help="Creep-force curve: sweep Q/(mu P) over -0.99..0.99, or the creepage over 1.5x full slip; "
+    "with --set, one curve per combination of the set values (a family).",
 )
 @click.option("--points", type=click.IntRange(2, 10000), default=41, show_default=True, help="Points of --curve.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Sweep file (.h5).")
@@ -412,6 +413,10 @@ def sweep(
         base = load_case(case_file)
         if workers and scheduler:
             raise CaseError("--workers and --scheduler: choose one; allowed: local processes or a Dask cluster")
+        if ctx.get_parameter_source("points") is not click.core.ParameterSource.DEFAULT and not curve:
+            raise CaseError(f"--points {points} without --curve; allowed: --points with --curve load or creep")
+        if zipped and not settings:
+            raise CaseError("--zip without --set; allowed: --zip pairs the values of two or more --set keys")
         if curve and settings:
             from .families import family_spec
 
@@ -460,6 +465,9 @@ def sweep(
                 f"  {report.solved} cases solved ({report.skipped} already in the file), "
                 f"{int(report.failed_mask.sum())} failed, {report.seconds:.2f} s {where}; written {out}"
             )
+        if report.invalid and ctx.obj["q"] < 2:  # part of the result: only -qq hides it
+            more = f" (and {report.invalid - 1} more cases; validity_warning in {out})" if report.invalid > 1 else ""
+            click.echo(f"warning: {report.first_invalid}{more}", err=True)
         failed = int(report.failed_mask.sum())
         if failed:
             _fail(f"{failed} of {report.solved} cases failed; their reasons are in {out}", 1)

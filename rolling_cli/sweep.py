@@ -206,6 +206,9 @@ class SweepReport:
     failed_mask: np.ndarray = None
     head: list = field(default_factory=list)
     tail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=TABLE_ROWS))
+    #: Cases whose result warns that it is outside its model's validity (a/R > 0.1), and the first such warning.
+    invalid: int = 0
+    first_invalid: str = ""
 
     def __post_init__(self) -> None:
         self.solved_mask = np.zeros(self.total, dtype=bool)
@@ -232,6 +235,10 @@ class SweepReport:
         self.solved_mask[record.index] = True
         self.failed_mask[record.index] = not record.converged
         self.solve_seconds += record.seconds
+        warning = record.result.attributes.get("validity_warning", "") if record.result is not None else ""
+        if warning:
+            self.invalid += 1
+            self.first_invalid = self.first_invalid or f"sweep case ({given(record.values)}): {warning}"
         if len(self.head) < TABLE_ROWS:
             self.head.append(_table_entry(record))
         else:

@@ -135,3 +135,26 @@ def test_a_family_resumes_as_itself(family, tmp_path):
     other = families.family_spec(load_case(SMALL), "creep", 21, spec.curves)
     with pytest.raises(CaseError, match="the values of tangential.creep differ"):
         sweep.run(load_case(SMALL), other, str(copy), resume=True)
+
+
+@pytest.mark.parametrize(
+    ("args", "expected"),
+    [
+        (["--set", "friction.mu=0.1,0.2", "--points", "11"], "--points 11 without --curve"),
+        (["--curve", "load", "--zip"], "--zip without --set"),
+    ],
+)
+def test_options_that_would_be_dropped_are_refused(tmp_path, args, expected):
+    result = run_cli("sweep", write_case(tmp_path, SMALL), *args, "-o", tmp_path / "x.h5")
+    lines = result.output.strip().splitlines()
+    assert result.exit_code == 2 and len(lines) == 1 and lines[0].startswith("error: ") and expected in lines[0]
+
+
+def test_a_family_of_load_curves_shares_the_load_values():
+    """--curve load: Q/(mu P) from -0.99 to 0.99 on every curve, the curve keys constant along each."""
+    base = load_case(SMALL)
+    spec = families.family_spec(base, "load", 5, sweep.spec_from_options(["friction.mu=0.2,0.4"], False))
+    combos = list(spec.combinations())
+    assert spec.keys == ("friction.mu", "tangential.q_over_mu_p") and spec.size == 10
+    assert [c["friction.mu"] for c in combos] == [0.2] * 5 + [0.4] * 5
+    assert [c["tangential.q_over_mu_p"] for c in combos] == [-0.99, -0.495, 0.0, 0.495, 0.99] * 2

@@ -79,3 +79,19 @@ def test_quiet_after_the_sweep_subcommand(tmp_path):
     run = run_cli("sweep", write_case(tmp_path, SMALL), "--set", "friction.mu=0.1,0.2", "-o", out, "-q")
     assert run.exit_code == 0, run.output
     assert run.output == "" and out.exists()
+
+
+@pytest.mark.parametrize("quiet", [0, 1, 2])
+def test_a_sweep_reports_the_validity_warning_of_its_cases(tmp_path, quiet):
+    """Cases with a/R > 0.1 in a sweep: one warning line naming the first case and the count, with or
+    without -q; -qq hides it."""
+    flags = ["-q"] * quiet
+    out = tmp_path / "s.h5"
+    run = run_cli("sweep", write_case(tmp_path, RUBBER), "--set", "friction.mu=0.1,0.2", "-o", out, *flags)
+    assert run.exit_code == 0, run.output
+    warnings = [line for line in run.stderr.splitlines() if line.startswith("warning: ")]
+    if quiet == 2:
+        assert warnings == []
+    else:
+        assert len(warnings) == 1 and "sweep case (friction.mu = 0.1): " in warnings[0]
+        assert VALIDITY in warnings[0] and "and 1 more cases" in warnings[0]
