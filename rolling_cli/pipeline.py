@@ -673,11 +673,12 @@ class MeshPath:
             level.iterations = budget.taken
             level.seconds += time.perf_counter() - t0
             self.timings["solve"] += time.perf_counter() - t0
-            log.info(
-                "%s (%s start): %d Newton iterations (%s), %.3f s, %s", level.kind, "cold" if cold else "warm",
-                budget.taken, ", ".join(budget.strategies()) or "-", time.perf_counter() - t0,
-                "converged" if level.failure is None else f"failed: {level.failure}",
-            )  # fmt: skip
+            if log.isEnabledFor(logging.INFO):  # rollc -v: each level's start, strategies and time
+                log.info(
+                    "%s (%s start): %d Newton iterations (%s), %.3f s, %s", level.kind, "cold" if cold else "warm",
+                    budget.taken, ", ".join(budget.strategies()) or "-", time.perf_counter() - t0,
+                    "converged" if level.failure is None else f"failed: {level.failure}",
+                )  # fmt: skip
         return budget.taken
 
     def run(self) -> Level:
