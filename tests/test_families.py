@@ -52,8 +52,8 @@ def test_a_family_has_one_curve_per_value_each_at_its_mu(family):
         # Beyond full slip every node slides: |Q| = mu P (to the same tolerance)
         sliding = np.abs(creep) > full * (1 + h / a)
         assert sliding.sum() >= 10 and np.allclose(np.abs(q[sliding]), 1.0, rtol=0, atol=1e-10)
-        # Inside, Carter's closed form: the slip-zone edge is placed to within one element h, so the creepage
-        # is within h/a of the full-slip creepage (d xi / d(c/a) = full, h the node spacing, h/a = 2.5 % here; measured 1.75 %)
+        # Inside, Carter's closed form: the slip-zone edge is placed to within one node spacing h, so the
+        # creepage is within h/a of the full-slip creepage (d xi / d(c/a) = full; h/a = 2.5 %, measured 1.75 %)
         inside = np.abs(q) < 0.999
         reference = np.array([carter.creepage(v, a, 50.0, mu) for v in q[inside]])
         assert inside.sum() >= 20
