@@ -25,7 +25,8 @@ method. Data flows one way, through plain arrays:
    appending rows (:mod:`rolling_cli.writer`), read by :mod:`rolling_cli.reader`
    (:func:`open_result`: an ``xarray.Dataset``), exported as tables
    (:mod:`rolling_cli.export`), plotted (:mod:`rolling_cli.plot`); sweeps
-   (:mod:`rolling_cli.sweep`) run serially, on local workers or on Dask.
+   (:mod:`rolling_cli.sweep`; families of creep-force curves:
+   :mod:`rolling_cli.families`) run serially, on local workers or on Dask.
 
 Python use::
 

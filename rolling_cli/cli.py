@@ -25,10 +25,67 @@ from .errors import CaseError, GrossSlidingError, RollingError, SolveError
 log = logging.getLogger("rolling_cli")
 
 
+#: The one handler the CLI puts on the root logger (replaced when -v/-q change after the subcommand).
+_handler: logging.Handler | None = None
+
+
+def log_levels(verbose: int, quiet: int) -> tuple[int, int]:
+    """(rolling_cli's level, everyone else's) for ``-v``/``-q`` counts: rolling_cli's warnings by
+    default and with ``-q`` (which drops the summary), its stages, strategies and timings with
+    ``-v``, its debug lines with ``-vv``, errors only with ``-qq``. Third-party loggers (h5py,
+    matplotlib, distributed) show warnings only, unless asked with ``-vvv``."""
+    net = verbose - quiet
+    ours = logging.DEBUG if net >= 2 else logging.INFO if net == 1 else logging.WARNING if net >= -1 else logging.ERROR
+    theirs = logging.DEBUG if net >= 3 else logging.WARNING if net >= -1 else logging.ERROR
+    return ours, theirs
+
+
+class _Stderr(logging.StreamHandler):
+    """A handler writing to whatever ``sys.stderr`` is when a record comes (click's test runner swaps it)."""
+
+    @property  # type: ignore[override]
+    def stream(self):
+        return sys.stderr
+
+    @stream.setter
+    def stream(self, value) -> None:
+        pass
+
+
 def _setup_logging(verbose: int, quiet: int) -> None:
-    level = logging.WARNING + 10 * (quiet - verbose)
-    logging.basicConfig(level=max(level, logging.DEBUG), format="%(levelname)s: %(message)s", stream=sys.stderr)
-    logging.getLogger("rolling_cli").setLevel(max(level, logging.DEBUG))
+    """Logging to stderr at the levels of :func:`log_levels` (only the CLI sets up logging)."""
+    global _handler
+    ours, theirs = log_levels(verbose, quiet)
+    root = logging.getLogger()
+    if _handler is not None:
+        root.removeHandler(_handler)
+    _handler = _Stderr()
+    _handler.setFormatter(logging.Formatter("%(levelname)s: %(message)s"))
+    root.addHandler(_handler)
+    root.setLevel(theirs)
+    logging.getLogger("rolling_cli").setLevel(ours)
+
+
+def _verbosity(ctx: click.Context, param: click.Parameter, value: int) -> None:
+    """``-v``/``-q`` after the subcommand: added to the counts given before it, logging set up again."""
+    if not value or ctx.resilient_parsing:
+        return
+    state = ctx.find_object(dict)
+    if state is None:
+        return
+    state[param.name] += value
+    state["quiet"] = state["q"] > 0
+    _setup_logging(state["v"], state["q"])
+
+
+def verbosity_options(command):
+    """The ``-v``/``-q`` options of the group, accepted after a subcommand too (``rollc solve case.toml -q``)."""
+    command = click.option(
+        "-q", "--quiet", "q", count=True, expose_value=False, callback=_verbosity, help="As rollc -q."
+    )(command)
+    return click.option(
+        "-v", "--verbose", "v", count=True, expose_value=False, callback=_verbosity, help="As rollc -v."
+    )(command)
 
 
 def _fail(message: str, code: int) -> None:
@@ -96,16 +153,19 @@ def default_output(case_path: str, configured: str | None) -> str:
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="rollc")
-@click.option("-v", "--verbose", count=True, help="More log output (repeat for debug).")
-@click.option("-q", "--quiet", count=True, help="Less output: warnings and errors only.")
+@click.option("-v", "--verbose", count=True, help="The solver's stages, strategies and timings; -vv: debug too.")
+@click.option(
+    "-q", "--quiet", count=True, help="No summary: warnings (validity of the result too) and errors; -qq: errors only."
+)
 @click.pass_context
 def main(ctx: click.Context, verbose: int, quiet: int) -> None:
     """rollc: steady 2D rolling contact of elastic cylinders (BEM + generalised Newton)."""
     _setup_logging(verbose, quiet)
-    ctx.obj = {"quiet": quiet > 0}
+    ctx.obj = {"quiet": quiet > 0, "v": verbose, "q": quiet}
 
 
 @main.command()
+@verbosity_options
 @click.argument("case_file", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Result file (.h5).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing output file (and figure).")
@@ -148,6 +208,8 @@ def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, e
             from .summary import summary
 
             click.echo(summary(result, out))
+        elif ctx.obj["q"] < 2 and result.attributes.get("validity_warning"):  # part of the result: only -qq hides it
+            click.echo(f"warning: {result.attributes['validity_warning']}", err=True)
         if not result.attributes.get("converged", True):
             _fail(f"{case_file}: {result.attributes.get('message')} (last iterate written to {out})", 1)
 
@@ -158,6 +220,7 @@ def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, e
 
 
 @main.command()
+@verbosity_options
 @click.argument("case_file", type=click.Path(dir_okay=False))
 def check(case_file):
     """Validate CASE_FILE and print the resolved case with the Hertz values it implies."""
@@ -195,6 +258,7 @@ def check(case_file):
 
 
 @main.command()
+@verbosity_options
 @click.argument("result_file", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Figure file: .png, .pdf or .svg.")
 @click.option("--show", is_flag=True, help="Open the figure in a window.")
@@ -233,6 +297,7 @@ def plot(result_file, output, show, stresses, overwrite):
 
 
 @main.command()
+@verbosity_options
 @click.argument("result_file", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Table file [default: FILE with .csv].")
 @click.option("--fields", is_flag=True, help="Also write the per-node fields to *_fields.csv.")
@@ -288,6 +353,7 @@ class Progress:
 
 
 @main.command()
+@verbosity_options
 @click.argument("case_file", type=click.Path(dir_okay=False))
 @click.option(
     "--set",
@@ -300,7 +366,8 @@ class Progress:
 @click.option(
     "--curve",
     type=click.Choice(["load", "creep"]),
-    help="Creep-force curve: sweep Q/(mu P) over -0.99..0.99, or the creepage over 1.5x full slip.",
+    help="Creep-force curve: sweep Q/(mu P) over -0.99..0.99, or the creepage over 1.5x full slip; "
+    "with --set, one curve per combination of the set values (a family).",
 )
 @click.option("--points", type=click.IntRange(2, 10000), default=41, show_default=True, help="Points of --curve.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), help="Sweep file (.h5).")
@@ -346,7 +413,15 @@ def sweep(
         base = load_case(case_file)
         if workers and scheduler:
             raise CaseError("--workers and --scheduler: choose one; allowed: local processes or a Dask cluster")
-        if curve:
+        if ctx.get_parameter_source("points") is not click.core.ParameterSource.DEFAULT and not curve:
+            raise CaseError(f"--points {points} without --curve; allowed: --points with --curve load or creep")
+        if zipped and not settings:
+            raise CaseError("--zip without --set; allowed: --zip pairs the values of two or more --set keys")
+        if curve and settings:
+            from .families import family_spec
+
+            spec = family_spec(base, curve, points, sweeps.spec_from_options(list(settings), zipped))
+        elif curve:
             spec = sweeps.curve_spec(base, curve, points)
         elif settings:
             spec = sweeps.spec_from_options(list(settings), zipped)
@@ -390,6 +465,9 @@ def sweep(
                 f"  {report.solved} cases solved ({report.skipped} already in the file), "
                 f"{int(report.failed_mask.sum())} failed, {report.seconds:.2f} s {where}; written {out}"
             )
+        if report.invalid and ctx.obj["q"] < 2:  # part of the result: only -qq hides it
+            more = f" (and {report.invalid - 1} more cases; validity_warning in {out})" if report.invalid > 1 else ""
+            click.echo(f"warning: {report.first_invalid}{more}", err=True)
         failed = int(report.failed_mask.sum())
         if failed:
             _fail(f"{failed} of {report.solved} cases failed; their reasons are in {out}", 1)

@@ -662,6 +662,7 @@ class MeshPath:
             t0 = time.perf_counter()
             level.system, level.origin = build_contact_system_with_origin(level.case, level.plan, self.use_cache)
             self.timings["influence"] += time.perf_counter() - t0
+            log.info("%s: contact system of %d nodes, %.3f s", level.kind, level.system.size, time.perf_counter() - t0)
         return level.system
 
     def solve_at(self, number: float, start) -> tuple[Level, int]:
@@ -710,6 +711,12 @@ class MeshPath:
             level.iterations = budget.taken
             level.seconds += time.perf_counter() - t0
             self.timings["solve"] += time.perf_counter() - t0
+            if log.isEnabledFor(logging.INFO):  # rollc -v: each level's start, strategies and time
+                log.info(
+                    "%s (%s start): %d Newton iterations (%s), %.3f s, %s", level.kind, "cold" if cold else "warm",
+                    budget.taken, ", ".join(budget.strategies()) or "-", time.perf_counter() - t0,
+                    "converged" if level.failure is None else f"failed: {level.failure}",
+                )  # fmt: skip
         return budget.taken
 
     def run(self) -> Level:

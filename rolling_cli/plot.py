@@ -7,7 +7,10 @@
   pressure (the curves of a tyred cylinder are centred as the paper does).
 * A sweep: the traction curves of its cases (at most 12, evenly picked),
   labelled by the swept values (the paper's Fig. 4 and 8); when a tangential
-  quantity is swept, also the creep-force curve Q/(mu P) against the creepage.
+  quantity is swept, also the creep-force curve Q/(mu P) against the creepage:
+  one line per group of cases with equal values of the other swept keys (a
+  family of curves, ``rollc sweep --curve creep --set friction.mu=...``),
+  labelled ``key = value`` in its legend.
 
 Files of format 1 are converted to the current layout first
 (:mod:`rolling_cli.legacy`), so one reader serves both.
@@ -140,16 +143,34 @@ def sweep_figure(handle, show: bool = False) -> Figure:
     ax.grid(True, alpha=0.3)
     if curve:
         ax2 = fig.add_subplot(1, 2, 2)
-        creep, q = table["creep"][rows], table["q_over_mu_p"][rows]
-        order = np.argsort(creep)
-        ax2.plot(creep[order], q[order], "o-", ms=3)
+        others = [k for k in keys if k not in TANGENTIAL_KEYS]  # the keys not on the x axis: one line each
+        groups = curve_groups([table[names[k]][rows] for k in others], len(rows))
+        colours = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.9, max(len(groups), 1)))
+        for members, colour in zip(groups, colours, strict=True):
+            creep, q = table["creep"][rows[members]], table["q_over_mu_p"][rows[members]]
+            order = np.argsort(creep, kind="stable")
+            label = ", ".join(f"{k} = {_fmt(table[names[k]][rows[members[0]]])}" for k in others) or None
+            ax2.plot(creep[order], q[order], "o-", ms=3, color=colour, label=label)
         ax2.set_xlabel(r"creepage $\xi = (V_A - V_B)/|V|$ [-]")
         ax2.set_ylabel(r"$Q/(\mu P)$ [-]")
-        ax2.set_title("creep-force curve", fontsize=9)
+        ax2.set_title("creep-force curve" + ("s" if len(groups) > 1 else ""), fontsize=9)
+        if others:
+            ax2.legend(fontsize=7)
         ax2.axhline(0, color="0.6", lw=0.8)
         ax2.axvline(0, color="0.6", lw=0.8)
         ax2.grid(True, alpha=0.3)
     return fig
+
+
+def curve_groups(columns: list[np.ndarray], count: int) -> list[np.ndarray]:
+    """Positions of ``count`` cases grouped by equal values in every column (the swept keys not on a
+    panel's x axis), groups in order of first appearance; one group of all when there are no columns."""
+    if not columns or not count:
+        return [np.arange(count)]
+    codes = np.stack([np.unique(np.asarray(c), return_inverse=True)[1].ravel() for c in columns], axis=1)
+    _, first, inverse = np.unique(codes, axis=0, return_index=True, return_inverse=True)
+    inverse = inverse.ravel()
+    return [np.flatnonzero(inverse == g) for g in np.argsort(first, kind="stable")]
 
 
 def _fmt(value) -> str:

@@ -60,6 +60,7 @@ from .sweep_spec import (  # noqa: F401  (the sweep API: specifications live in 
     check_resources,
     curve_spec,
     difference,
+    given,
     parse_values,
     spec_from_options,
     spec_from_table,
@@ -150,8 +151,9 @@ def solve_chunk(chunk: list[tuple[int, dict, Case]], warm: bool, use_cache: bool
                 path = CasePath(pipeline.prepare(case, use_cache)[1], warm, use_cache)
             result = path.solve(case, values)
             yield Record(index, values, result, "", time.perf_counter() - start_time)
-        except (RollingError, GrossSlidingError) as err:
-            yield Record(index, values, None, str(err), time.perf_counter() - start_time)
+        except (RollingError, GrossSlidingError) as err:  # quoted with the values as given (a path's step may differ)
+            message = f"sweep case ({given(values)}): {err}"
+            yield Record(index, values, None, message, time.perf_counter() - start_time)
 
 
 def default_workers() -> int:
@@ -163,7 +165,7 @@ def _todo(spec: SweepSpec, done: np.ndarray) -> Iterator[list[tuple[int, dict]]]
     """The cases still to solve as chunks of (index, swept values): runs of one contact system
     (:func:`combo_key`), cut into pieces of at most :data:`CHUNK`; nothing is built here."""
     items = ((i, spec.combination(i)) for i in range(spec.size) if not done[i])
-    for _, group in itertools.groupby(items, key=lambda item: combo_key(item[1])):
+    for _, group in itertools.groupby(items, key=lambda item: (combo_key(item[1]), spec.curve_of(item[0]))):
         while piece := list(itertools.islice(group, CHUNK)):
             yield piece
 
@@ -176,10 +178,11 @@ def solve_items(
     validates only its values and corners up front) is a failed record, and the warm-start chain
     restarts after it. Runs where the chunk runs: in this process, a worker process or a cluster task."""
     run: list[tuple[int, dict, Case]] = []
+    fits: set = set()
     for index, combo in items:
         try:
             case = built.pop(index, None) if built else None
-            run.append((index, combo, case if case is not None else build(base, combo)))
+            run.append((index, combo, case if case is not None else build(base, combo, fits)))
         except CaseError as err:
             yield from solve_chunk(run, warm, use_cache)
             run = []
@@ -203,6 +206,9 @@ class SweepReport:
     failed_mask: np.ndarray = None
     head: list = field(default_factory=list)
     tail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=TABLE_ROWS))
+    #: Cases whose result warns that it is outside its model's validity (a/R > 0.1), and the first such warning.
+    invalid: int = 0
+    first_invalid: str = ""
 
     def __post_init__(self) -> None:
         self.solved_mask = np.zeros(self.total, dtype=bool)
@@ -229,6 +235,10 @@ class SweepReport:
         self.solved_mask[record.index] = True
         self.failed_mask[record.index] = not record.converged
         self.solve_seconds += record.seconds
+        warning = record.result.attributes.get("validity_warning", "") if record.result is not None else ""
+        if warning:
+            self.invalid += 1
+            self.first_invalid = self.first_invalid or f"sweep case ({given(record.values)}): {warning}"
         if len(self.head) < TABLE_ROWS:
             self.head.append(_table_entry(record))
         else:

@@ -100,6 +100,11 @@ class SweepSpec:
         """Every case's swept values, in sweep order (lazily)."""
         return (self.combination(i) for i in range(self.size))
 
+    def curve_of(self, index: int) -> int:
+        """The warm-start path case ``index`` is on: one for a plain sweep (a family of curves has one per
+        curve, :class:`~rolling_cli.families.FamilySpec`); chunks never cross paths."""
+        return 0
+
     def describe(self) -> str:
         """The specification as JSON (ranges as ``start:stop:count``): what ``--resume`` compares."""
         values = [v.text() if isinstance(v, Linspace) else list(v) for v in self.values]
@@ -199,33 +204,64 @@ def curve_spec(base: Case, kind: str, points: int) -> SweepSpec:
     return SweepSpec(("tangential.creep",), (Linspace(-1.5 * full, 1.5 * full, points),))
 
 
-def build(base: Case, combo: dict) -> Case:
-    """The case of one combination, validated (CaseError names the swept values)."""
+def given(combo: dict) -> str:
+    """The swept values of a case as the user gave them: ``key = value, ...``."""
+    return ", ".join(f"{k} = {v!r}" for k, v in combo.items())
+
+
+def _memory_key(case: Case) -> tuple:
+    """What a case's memory estimate and element rule depend on (equal keys: the same verdict)."""
+    parts = (case.bodies, case.normal, case.rolling, case.discretization, case.effects, case.stresses)
+    return (*parts, case.tangential.control()[0], case.friction.mu == 0.0, case.solver.penalty)
+
+
+def build(base: Case, combo: dict, fits: set | None = None) -> Case:
+    """The case of one combination, validated, with the checks ``rollc solve`` makes before solving
+    that need no solve (gross sliding: :func:`~rolling_cli.pipeline.check_gross_sliding`; memory
+    and the layer's element rule: :func:`~rolling_cli.resources.check_resources`). A
+    :class:`CaseError` names the swept keys and the values as given. ``fits``: the memory keys
+    found to fit so far in this run (a memo; None: check every case)."""
+    from .errors import GrossSlidingError
+    from .pipeline import check_gross_sliding
+    from .resources import check_resources as check_memory
+
     try:
-        return with_overrides(base, combo)
-    except CaseError as err:
-        shown = ", ".join(f"{k} = {v!r}" for k, v in combo.items())
-        raise CaseError(f"sweep case ({shown}): {err}") from None
+        case = with_overrides(base, combo)
+        check_gross_sliding(case)
+        key = _memory_key(case)
+        if fits is None or key not in fits:  # once per contact system: the estimate costs a millisecond
+            check_memory(case)
+            if fits is not None and len(fits) < 10_000:
+                fits.add(key)
+        return case
+    except (CaseError, GrossSlidingError) as err:
+        raise CaseError(f"sweep case ({given(combo)}): {err}") from None
 
 
 def validate(base: Case, spec: SweepSpec) -> dict[int, Case]:
-    """Build and validate the cases before anything is solved: all of them up to
+    """Build and validate the cases before anything is solved (:func:`build`: the checks ``rollc
+    solve`` makes before solving, memory once per contact system): all of them up to
     :data:`VALIDATE_ALL` (returned by sweep index, so a serial run need not build
     them again), else every value of each key (the others at their first value)
     and every corner of the value ranges (returns {}). Cases of a large sweep that
     only fail in the run are recorded as failed cases."""
+    fits: set = set()
     if spec.size <= VALIDATE_ALL:
-        return {index: build(base, combo) for index, combo in enumerate(spec.combinations())}
+        return {index: build(base, combo, fits) for index, combo in enumerate(spec.combinations())}
+    if hasattr(spec, "probes"):  # a family of curves: the ends of its curves
+        for index in spec.probes():
+            build(base, spec.combination(index), fits)
+        return {}
     firsts = {k: v[0] for k, v in zip(spec.keys, spec.values, strict=True)}
     for key, values in zip(spec.keys, spec.values, strict=True):
         picks = range(len(values)) if len(values) <= CHECK_VALUES // 10 else (0, len(values) - 1)
         for i in picks:
-            build(base, {**firsts, key: values[i]})
+            build(base, {**firsts, key: values[i]}, fits)
     ends = [sorted({0, len(v) - 1}) for v in spec.values]
     for corner in itertools.product(*ends):
         if spec.zipped and len(set(corner)) > 1:
             continue
-        build(base, {k: v[i] for k, v, i in zip(spec.keys, spec.values, corner, strict=True)})
+        build(base, {k: v[i] for k, v, i in zip(spec.keys, spec.values, corner, strict=True)}, fits)
     return {}
 
 

@@ -111,16 +111,17 @@ def test_sweep_file_is_one_tidy_table(tmp_path):
 
 def test_failed_cases_are_rows_with_a_reason(tmp_path):
     base = load_case(SMALL)
-    spec = sweep.spec_from_options(["tangential.q_over_mu_p=0.3,1.2,0.8"], False)
+    spec = sweep.spec_from_options(["solver.max_iterations=100,1,100"], False)  # case 1 fails in the run
     path = tmp_path / "s.h5"
-    report = sweep.run(base, spec, path)
+    report = sweep.run(base, spec, path, warm=False)
     assert int(report.failed_mask.sum()) == 1
     ds = xr.open_dataset(path)
     assert list(ds.converged.values) == [True, False, True]
-    assert "gross sliding" in str(ds.message.values[1]) and str(ds.message.values[0]) == ""
+    assert str(ds.message.values[1]).startswith("sweep case (solver.max_iterations = 1): ")
+    assert str(ds.message.values[0]) == ""
     assert np.all(np.isnan(ds.p_t.values[1])) and np.all(ds.state.values[1] == -1)
     assert ds.iterations.values[1] == -1 and np.isnan(ds.normal_load.values[1])
-    assert ds.tangential_q_over_mu_p.values[1] == 1.2
+    assert ds.solver_max_iterations.values[1] == 1
 
 
 def test_grids_that_differ_are_per_case_and_padded(tmp_path):

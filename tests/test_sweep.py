@@ -253,7 +253,7 @@ def test_resume_refuses_another_sweep(tmp_path, change, named):
 def test_resume_refuses_a_format_1_file(tmp_path):
     out = tmp_path / "old.h5"
     out.write_bytes((Path(__file__).parent / "data" / "v1_sweep.h5").read_bytes())
-    spec = sweep.spec_from_options(["tangential.q_over_mu_p=0.3,1.2,0.8"], False)
+    spec = sweep.spec_from_options(["tangential.q_over_mu_p=0.3,0.9,0.8"], False)  # (the fixture's 1.2 is refused now)
     base = load_case(case_dict(SMALL, **{"discretization.contact_elements": 10, "title": "format 1 fixture"}))
     with pytest.raises(CaseError, match="format version 1, this rollc writes 2"):
         sweep.run(base, spec, str(out), resume=True)
@@ -262,12 +262,41 @@ def test_resume_refuses_a_format_1_file(tmp_path):
 def test_failing_case_is_recorded_and_the_others_finish(tmp_path):
     out = tmp_path / "s.h5"
     case = _write(tmp_path, SMALL)
-    result = _run("sweep", case, "--set", "tangential.q_over_mu_p=0.3,1.2,0.8", "-o", out, "--workers", 1)
+    args = ("--set", "solver.max_iterations=100,1,100", "--no-warm-start", "-o", out, "--workers", 1)
+    result = _run("sweep", case, *args)
     assert result.exit_code == 1
     assert "1 of 3 cases failed" in result.output
     table = _table(out)
     assert list(table["converged"]) == [True, False, True]
-    assert "gross sliding" in table["message"][1]
+    assert table["message"][1].startswith("sweep case (solver.max_iterations = 1): ")
+
+
+def test_gross_sliding_is_refused_before_any_solve(tmp_path, monkeypatch):
+    """Every case gets rollc solve's pre-solve checks first: exit 2, one line naming the key and the
+    value as given (1.2, not a continuation step's value), and nothing solved or written."""
+    from rolling_cli import pipeline
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("a case was solved")
+
+    monkeypatch.setattr(pipeline, "prepare", no_solve)
+    out = tmp_path / "s.h5"
+    result = _run("sweep", _write(tmp_path, SMALL), "--set", "tangential.q_over_mu_p=0.3,1.2,0.8", "-o", out)
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and "tangential.q_over_mu_p = 1.2" in lines[0] and "gross sliding" in lines[0]
+    assert not out.exists()
+
+
+def test_gross_sliding_of_a_huge_range_is_found_lazily(tmp_path):
+    """A range of a million values is checked at its ends (gross sliding is monotone in |Q|): refused
+    at once, naming the end value as given."""
+    base = load_case(case_dict(SMALL))
+    spec = sweep.spec_from_options(["tangential.q_over_mu_p=0.1:1.5:1000000"], False)
+    start = time.perf_counter()
+    with pytest.raises(CaseError, match=r"tangential.q_over_mu_p = 1.5\): .*gross sliding"):
+        sweep.validate(base, spec)
+    assert time.perf_counter() - start < 10.0
 
 
 def test_a_killed_sweep_leaves_a_valid_file(tmp_path):
@@ -325,3 +354,24 @@ def test_shipped_sweep_case(tmp_path):
     result = _run("-q", "sweep", CASES / "paper_fig4.toml", "-o", out, "--workers", 1)
     assert result.exit_code == 0, result.output
     assert list(_table(out)["friction_mu"]) == [0.1, 0.2, 0.3, 0.4]
+
+
+def test_a_case_beyond_the_memory_is_refused_before_any_solve(monkeypatch, tmp_path):
+    """rollc solve's memory check runs on every contact system of a sweep first: the case that does
+    not fit is named by its key and value, before anything is solved."""
+    from rolling_cli import pipeline, resources
+
+    base = load_case(case_dict(SMALL))
+    small = resources.estimate(base).bytes
+    big = resources.estimate(sweep.build(base, {"discretization.contact_elements": 400})).bytes
+    assert big > 2 * small
+    monkeypatch.setattr(resources, "available_memory", lambda: (small + big) / 2)  # 40 elements fit, 400 do not
+
+    def no_solve(*args, **kwargs):
+        raise AssertionError("a case was solved")
+
+    monkeypatch.setattr(pipeline, "prepare", no_solve)
+    spec = sweep.spec_from_options(["discretization.contact_elements=40,400"], False)
+    with pytest.raises(CaseError, match=r"^sweep case \(discretization.contact_elements = 400\): "):
+        sweep.run(base, spec, str(tmp_path / "s.h5"))
+    assert not (tmp_path / "s.h5").exists()

@@ -9,7 +9,10 @@ can use it.
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
+
+log = logging.getLogger(__name__)
 
 
 class BudgetExhausted(Exception):
@@ -40,8 +43,10 @@ class Budget:
         self.taken += 1
 
     def record(self, row: dict) -> None:
-        """Append one history row."""
+        """Append one history row (a debug log line: ``rollc -vv``)."""
         self.history.append(row)
+        if log.isEnabledFor(logging.DEBUG):
+            log.debug("Newton %s", ", ".join(f"{k} {_short(v)}" for k, v in row.items()))
 
     def strategies(self) -> list[str]:
         """The strategies that ran, in order of first appearance."""
@@ -51,3 +56,7 @@ class Budget:
             if name and name not in seen:
                 seen.append(name)
         return seen
+
+
+def _short(value) -> str:
+    return f"{value:.3e}" if isinstance(value, float) else str(value)
