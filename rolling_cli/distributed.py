@@ -29,7 +29,7 @@ def solve_chunk_task(base, chunk, warm: bool, use_cache: bool) -> list:
     """
     global _limits
     from . import blas
-    from .sweep import solve_items
+    from .chunk import solve_items
 
     if _limits is None:
         _limits = blas.limit_threads()

@@ -66,9 +66,9 @@ def initialize(parent: int) -> None:
 
 
 def solve_chunk_until_stopped(base, chunk, warm: bool, use_cache: bool) -> list:
-    """The records of ``chunk`` (see :func:`rolling_cli.sweep.solve_items`), up to a stop."""
+    """The records of ``chunk`` (see :func:`rolling_cli.chunk.solve_items`), up to a stop."""
     global _busy
-    from .sweep import solve_items
+    from .chunk import solve_items
 
     records: list = []
     if _stopped:
