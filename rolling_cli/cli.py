@@ -43,7 +43,7 @@ def log_levels(verbose: int, quiet: int) -> tuple[int, int]:
 class _Stderr(logging.StreamHandler):
     """A handler writing to whatever ``sys.stderr`` is when a record comes (click's test runner swaps it)."""
 
-    @property  # type: ignore[override]
+    @property
     def stream(self):
         return sys.stderr
 
@@ -138,7 +138,7 @@ def _command() -> str:
             values = value if isinstance(value, tuple) else (value,)
             for item in values:
                 parts += [param.opts[-1]] if item is True else [param.opts[-1], str(item)]
-    return shlex.join(parts)
+    return shlex.join(str(part) for part in parts)
 
 
 def default_output(case_path: str, configured: str | None) -> str:
@@ -518,7 +518,7 @@ def entry() -> None:
         main()
         code = 0
     except SystemExit as exit:
-        code = exit.code
+        code = exit.code  # type: ignore[assignment]  # None or a message: handled below
     finally:
         gc.enable()
     if not isinstance(code, int) or not _fast_exit_safe():  # None, a message: Python's own handling

@@ -20,7 +20,7 @@ import numpy as np
 from . import pipeline
 from .case import Case, with_overrides
 from .errors import RollingError
-from .result import Result
+from .result import Result, recorded
 from .solver import continuation, predictor
 from .solver.formulation import State
 from .system import ContactSystem
@@ -28,13 +28,15 @@ from .system import ContactSystem
 
 def result_state(result: Result) -> State:
     """The solver state of a converged result."""
-    return State(result.p_n, result.p_t, float(result.solved_overlap), float(result.creep))
+    return State(
+        result.p_n, result.p_t, recorded(result.solved_overlap, "solved_overlap"), recorded(result.creep, "creep")
+    )
 
 
 def result_zones(result: Result) -> predictor.Zones:
     """Zone pattern and boundaries of a result (for the secant predictor)."""
     labels = predictor.node_labels(result.p_n, result.p_t, result.state == 1)
-    return predictor.zones(result.x, labels, result.p_n, result.p_t, float(result.mu) * np.abs(result.p_n))
+    return predictor.zones(result.x, labels, result.p_n, result.p_t, recorded(result.mu, "mu") * np.abs(result.p_n))
 
 
 class _CaseFailed(Exception):
@@ -115,9 +117,9 @@ class CasePath:
         keys = list(values)
 
         def case_at(s: float) -> Case:
-            if s == 1.0 or step is None:
-                return case
             base = _numeric(last.values)
+            if s == 1.0 or step is None or base is None:
+                return case
             return with_overrides(case, dict(zip(keys, (base + s * step).tolist(), strict=True)))
 
         def predict(done, s):
@@ -136,5 +138,7 @@ class CasePath:
         try:
             continuation.follow([1.0], solve_at, predict, points, failure=_CaseFailed, control=control)
         except continuation.ContinuationFailed as err:
+            if not isinstance(err.__cause__, _CaseFailed):
+                raise
             raise err.__cause__.error from None
         return points[-1][1]

@@ -149,8 +149,8 @@ def sweep_figure(handle, show: bool = False) -> Figure:
         for members, colour in zip(groups, colours, strict=True):
             creep, q = table["creep"][rows[members]], table["q_over_mu_p"][rows[members]]
             order = np.argsort(creep, kind="stable")
-            label = ", ".join(f"{k} = {_fmt(table[names[k]][rows[members[0]]])}" for k in others) or None
-            ax2.plot(creep[order], q[order], "o-", ms=3, color=colour, label=label)
+            legend = ", ".join(f"{k} = {_fmt(table[names[k]][rows[members[0]]])}" for k in others) or None
+            ax2.plot(creep[order], q[order], "o-", ms=3, color=colour, label=legend)
         ax2.set_xlabel(r"creepage $\xi = (V_A - V_B)/|V|$ [-]")
         ax2.set_ylabel(r"$Q/(\mu P)$ [-]")
         ax2.set_title("creep-force curve" + ("s" if len(groups) > 1 else ""), fontsize=9)

@@ -10,7 +10,7 @@ from .result import Result
 from .stresses import power
 
 
-def _fmt(value: float, digits: int = 6) -> str:
+def _fmt(value: float | None, digits: int = 6) -> str:
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return "undefined"
     return f"{value:.{digits}g}"

@@ -124,8 +124,8 @@ class SweepReport:
     seconds: float = 0.0
     solve_seconds: float = 0.0
     write_seconds: float = 0.0
-    solved_mask: np.ndarray = None
-    failed_mask: np.ndarray = None
+    solved_mask: np.ndarray = field(init=False)  # (total,) bool: solved (or failed) in this run
+    failed_mask: np.ndarray = field(init=False)  # (total,) bool: failed in this run
     head: list = field(default_factory=list)
     tail: collections.deque = field(default_factory=lambda: collections.deque(maxlen=TABLE_ROWS))
     #: Cases whose result warns that it is outside its model's validity (a/R > 0.1), and the first such warning.
@@ -171,7 +171,7 @@ class FileRecords(Mapping):
     """Records of the cases marked in ``mask``, read from the sweep file when asked for."""
 
     def __init__(self, path: str, mask: np.ndarray, keys: tuple[str, ...]) -> None:
-        self.path, self.mask, self.keys = path, mask, keys
+        self.path, self.mask, self.swept_keys = path, mask, keys
         self._rows: dict[int, int] | None = None
 
     def __len__(self) -> int:
@@ -193,7 +193,7 @@ class FileRecords(Mapping):
             result = read_case(handle, row, self._table)
             solved = int(handle["nodes"][row]) > 0
         attrs = result.attributes
-        values = {k: result.swept.get(k) for k in self.keys}
+        values = {k: result.swept.get(k) for k in self.swept_keys}
         return Record(index, values, result if solved else None, attrs.get("message", ""), attrs.get("time", 0.0))
 
 

@@ -41,20 +41,20 @@ class Linspace(Sequence):
     """
 
     def __init__(self, start: float, stop: float, count: int, integer: bool = False) -> None:
-        self.start, self.stop, self.count, self.integer = float(start), float(stop), int(count), integer
-        self.step = (self.stop - self.start) / (self.count - 1) if self.count > 1 else 0.0
+        self.start, self.stop, self.size, self.integer = float(start), float(stop), int(count), integer
+        self.step = (self.stop - self.start) / (self.size - 1) if self.size > 1 else 0.0
 
     def __len__(self) -> int:
-        return self.count
+        return self.size
 
     def __getitem__(self, i):
         if isinstance(i, slice):
-            return [self[j] for j in range(*i.indices(self.count))]
+            return [self[j] for j in range(*i.indices(self.size))]
         if i < 0:
-            i += self.count
-        if not 0 <= i < self.count:
+            i += self.size
+        if not 0 <= i < self.size:
             raise IndexError(i)
-        value = self.stop if i == self.count - 1 and self.count > 1 else i * self.step + self.start
+        value = self.stop if i == self.size - 1 and self.size > 1 else i * self.step + self.start
         return round(value) if self.integer else float(f"{value:.15g}")
 
     def __repr__(self) -> str:
@@ -62,7 +62,7 @@ class Linspace(Sequence):
 
     def text(self) -> str:
         """``start:stop:count``, the form it was given in."""
-        return f"{self.start!r}:{self.stop!r}:{self.count}"
+        return f"{self.start!r}:{self.stop!r}:{self.size}"
 
 
 @dataclass(frozen=True)

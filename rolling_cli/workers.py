@@ -105,8 +105,9 @@ def interrupt(pool: concurrent.futures.ProcessPoolExecutor) -> None:
     process's children (``multiprocessing.active_children``: the pool is its only source of them)."""
     del pool  # its workers are the children; the pool has no public list of them
     for process in multiprocessing.active_children():
-        with contextlib.suppress(ProcessLookupError, PermissionError, TypeError):
-            os.kill(process.pid, signal.SIGINT)
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            if process.pid is not None:
+                os.kill(process.pid, signal.SIGINT)
 
 
 def default_count() -> int:

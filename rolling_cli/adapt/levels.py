@@ -34,8 +34,9 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -203,7 +204,7 @@ def transferred_state(level: LevelFields, new: ContactGrid) -> State:
     return State(p_n, p_t, float(level.overlap), float(level.creep))
 
 
-def summary_line(attrs: dict) -> str | None:
+def summary_line(attrs: Mapping[str, Any]) -> str | None:
     """The summary's line for an adaptive result (None for a fixed mesh)."""
     if "adaptive_tolerance" not in attrs:
         return None

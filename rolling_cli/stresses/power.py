@@ -14,6 +14,9 @@ power per unit axial length and per unit rolling speed [force/length].
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import numpy as np
 
 #: The node state of slip (:data:`rolling_cli.result.STATE_NAMES`).
@@ -30,7 +33,7 @@ def total(weights: np.ndarray, dissipation: np.ndarray) -> float:
     return float(np.asarray(weights) @ np.asarray(dissipation))
 
 
-def summary_line(attributes: dict, line_force_unit: str) -> str | None:
+def summary_line(attributes: Mapping[str, Any], line_force_unit: str) -> str | None:
     """The summary line of the frictional power, or None for results that do not carry it."""
     value = attributes.get("frictional_power_total")
     if value is None:

@@ -22,6 +22,8 @@ from __future__ import annotations
 import json
 import math
 import time
+from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -137,7 +139,7 @@ def set_note(result, text: str) -> None:
     result.attributes["effects_line"] = "; ".join(f"{name}: {note}" for name, note in notes.items())
 
 
-def summary_lines(attributes: dict, units: dict) -> list[str]:
+def summary_lines(attributes: Mapping[str, Any], units: dict) -> list[str]:
     """Screen lines for the stress maxima in a result's attributes ([] when there are none)."""
     if "stress_bodies" not in attributes:
         return []
