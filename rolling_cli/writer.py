@@ -37,7 +37,9 @@ from .layout import (
     CONVENTIONS,
     CONVERGENCE,
     GRID,
+    GROUP_UNITS,
     HISTORY,
+    INDEXES,
     NODE_FIELDS,
     SCALARS,
     Kind,
@@ -48,6 +50,8 @@ from .layout import (
     dtype_kind,
     encode,
     merge,
+    swept,
+    units_of,
 )
 from .outputs import WriteError
 from .reader import plain
@@ -73,6 +77,10 @@ _INTERNAL = {"DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid
 
 def _units() -> dict[str, str]:
     return {"length": "length", "stress": "stress", "force/length": "force/length", "1": "1"}
+
+
+def _index(name: str) -> dict:
+    return {"long_name": INDEXES[name], "units": "1"}
 
 
 def _node_meta() -> dict:
@@ -195,7 +203,8 @@ class ResultFile:
                     self.grid[name] = handle[name][()]
             self.extras = {name for name in GROUP_HOOKS if name in handle}
             self.units = self._read_units(handle)
-        self.restructure = False
+            fixed_text = any(isinstance(o, h5py.Dataset) and o.dtype.kind == "S" for o in _datasets(handle))
+        self.restructure = fixed_text  # an older file's fixed-width text: the next commit rebuilds it
         return self
 
     @staticmethod
@@ -206,8 +215,10 @@ class ResultFile:
                 continue
             dims = tuple(obj.dims[i].keys()[0] if obj.dims[i].keys() else "" for i in range(obj.ndim))
             attrs = {k: v for k, v in obj.attrs.items() if k not in _INTERNAL}
-            if obj.dtype.kind == "S":
+            if obj.dtype.kind == "S":  # fixed-width text (rollc <= 0.1): rebuilt as variable-length
                 kind = Kind("str", obj.dtype.itemsize)
+            elif h5py.check_string_dtype(obj.dtype):
+                kind = Kind("str")
             elif plain(attrs.get("dtype")) == "bool":
                 kind = Kind("bool")
             elif obj.dtype == np.int8:
@@ -300,8 +311,9 @@ class ResultFile:
         if units and not self.schema:
             self.units = {**self.units, **units}
         for key, values in batch.coords.items():
-            attrs = {"long_name": f"swept case key {key}", "case_key": key}
-            _widen(schema, coordinate_name(key), column_kind(values), ("case",), attrs)
+            kind = column_kind(values)
+            attrs = swept(key, self.units, text=kind is not None and kind.name == "str")
+            _widen(schema, coordinate_name(key), kind, ("case",), attrs)
         for name, values in batch.scalars.items():
             _widen(schema, name, column_kind(values), ("case",), describe(name, SCALARS, self.units))
         node_meta = _node_meta()
@@ -458,10 +470,10 @@ class ResultFile:
         """Every dimension, coordinate and variable of ``plan``, its space allocated and filled."""
         root = {**self.attrs, "Conventions": CONVENTIONS}
         _set_attrs(handle, {k: np.int8(v) if isinstance(v, bool) else v for k, v in root.items() if v is not None})
-        case = _dataset(handle, "case", Var(("case",), Kind("i8"), {"long_name": "case index in the sweep"}), plan)
+        case = _dataset(handle, "case", Var(("case",), Kind("i8"), _index("case")), plan)
         case.make_scale("case")
         _set_attrs(case, {"_Netcdf4Dimid": np.int32(0), "_Netcdf4Coordinates": np.array([0], dtype=np.int32)})
-        node = _dataset(handle, "node", Var(("node",), Kind("i8"), {"long_name": "contact node index"}), plan)
+        node = _dataset(handle, "node", Var(("node",), Kind("i8"), _index("node")), plan)
         node[:] = np.arange(plan["node_cap"])
         node.make_scale("node")
         _set_attrs(node, {"_Netcdf4Dimid": np.int32(1), "_Netcdf4Coordinates": np.array([1], dtype=np.int32)})
@@ -478,12 +490,12 @@ class ResultFile:
                 ds[: plan["grid"][name].size] = plan["grid"][name]
         group = handle.create_group(CONVERGENCE, track_order=True)
         _set_attrs(group, {"long_name": "Newton histories: a CF indexed ragged array, one row per iteration"})
-        iteration = _dataset(group, "row", Var(("row",), Kind("i8"), {"long_name": "row"}), plan)
+        iteration = _dataset(group, "row", Var(("row",), Kind("i8"), _index("row")), plan)
         iteration[:] = np.arange(plan["hist_cap"])
         iteration.make_scale("row")
         _set_attrs(iteration, {"_Netcdf4Dimid": np.int32(2), "_Netcdf4Coordinates": np.array([2], dtype=np.int32)})
         scales["row"] = iteration
-        index_var = Var(("row",), Kind("i8"), {"long_name": "case of the row", "instance_dimension": "case"})
+        index_var = Var(("row",), Kind("i8"), {**_index("case_index"), "instance_dimension": "case"})
         ds = _dataset(group, "case_index", index_var, plan)
         _attach(ds, ("row",), scales)
         for name, var in plan["history"].items():
@@ -517,7 +529,7 @@ class ResultFile:
             for key, source in old[name].items():
                 if old[name].get(key, getlink=True).__class__ is h5py.SoftLink:
                     continue  # a single result's links are made again below
-                hook.write(target.create_group(key), hook.read(source))
+                _write_group(target.create_group(key), name, hook.read(source), self.units)
             if self.total == 1:
                 for key in list(target):
                     for sub in target[key] if key.startswith("case_") else ():
@@ -555,10 +567,27 @@ class ResultFile:
         for row in rows:
             for name, payload in row.extras.items():
                 group = handle.require_group(name).create_group(f"case_{row.index:06d}")
-                GROUP_HOOKS[name].write(group, payload)
+                _write_group(group, name, payload, self.units)
                 if self.total == 1:  # a single result: its subgroups also at /<name>/<sub> (e.g. stresses/A)
                     for sub in group:
                         handle[name][sub] = h5py.SoftLink(f"/{name}/case_{row.index:06d}/{sub}")
+
+
+def _write_group(group, name: str, payload, units: dict[str, str]) -> None:
+    """An extra group through its hook; its variables that have no units get those of
+    :data:`~rolling_cli.layout.GROUP_UNITS` (the hooks do not know the case's units)."""
+    GROUP_HOOKS[name].write(group, payload)
+    for ds in _datasets(group):
+        key = GROUP_UNITS.get(ds.name.rsplit("/", 1)[-1])
+        if key and "units" not in ds.attrs:
+            ds.attrs["units"] = units_of(key, units)
+
+
+def _datasets(group) -> list:
+    """The datasets of ``group`` and of its subgroups."""
+    found: list = []
+    group.visititems(lambda _, obj: found.append(obj) if isinstance(obj, h5py.Dataset) else None)
+    return found
 
 
 def _put(group, name: str, start: int, values: np.ndarray) -> None:
@@ -644,7 +673,7 @@ def _dataset(group, name: str, var: Var, plan: dict):
     maxshape = tuple(None if d in ("case", "row") else s for d, s in zip(var.dims, shape, strict=True))
     dcpl = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
     dcpl.set_alloc_time(h5py.h5d.ALLOC_TIME_EARLY)
-    if plan.get("copied"):
+    if plan.get("copied") and var.kind.name != "str":  # HDF5 fills variable-length data always
         dcpl.set_fill_time(h5py.h5d.FILL_TIME_NEVER)
     if chunks is None and var.kind.dtype.kind in "iuf":
         ds = _contiguous(group, name, shape, var.kind.dtype, var.kind.fill, dcpl)
@@ -655,15 +684,13 @@ def _dataset(group, name: str, var: Var, plan: dict):
             maxshape=maxshape if chunks else None,
             chunks=chunks,
             dtype=var.kind.dtype,
-            fillvalue=var.kind.fill,
+            fillvalue=None if var.kind.name == "str" else var.kind.fill,  # text: netCDF-C's own (NULL, read as "")
             dcpl=dcpl,
             track_times=False,
         )
     attrs = dict(var.attrs)
     if var.kind.name == "bool":
         attrs.update(dtype="bool", flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
-    elif var.kind.name == "str":
-        attrs["_Encoding"] = "utf-8"
     elif name == "state":
         from .result import STATE_NAMES
 
