@@ -279,15 +279,27 @@ class ResultFile:
             raise
 
     def close(self) -> None:
-        """Commit, then trim every dimension to its exact length (a rebuild when there is slack)."""
+        """Commit, then trim every dimension to its exact length and put the rows in sweep order (a
+        rebuild when there is slack or the rows are out of order: a parallel run interrupted and
+        resumed commits the cases its workers had finished before those it had not)."""
         self.commit()
         if self.broken:
             return
-        if self.case_cap > self.done or self.hist_cap > self.hist_done:
+        order = self._sweep_order()
+        if self.case_cap > self.done or self.hist_cap > self.hist_done or order is not None:
             plan = self._same_plan()
             plan["case_cap"], plan["hist_cap"] = self.done, self.hist_done
             plan["copied"] = True  # every element is copied: no fill values to write first
+            plan["order"] = order
             self._rebuild(_Batch.of([], self.keys), plan)
+
+    def _sweep_order(self) -> np.ndarray | None:
+        """The committed rows' order by case index (None when they are in that order already)."""
+        if not self.exists or self.done < 2:
+            return None
+        with h5py.File(self.path, "r") as handle:
+            cases = _get(handle, "case", 0, self.done)
+        return None if np.all(np.diff(cases) > 0) else np.argsort(cases, kind="stable")
 
     # ----------------------------------------------------------------- planning
     def _same_plan(self) -> dict:
@@ -382,6 +394,9 @@ class ResultFile:
         rows = batch.rows
         try:
             with h5py.File(self.path, "r+", libver=LIBVER) as handle:
+                _extend(
+                    handle, self.schema, self.history, self.done + len(rows), self.hist_done + len(batch.history_cases)
+                )
                 self._write_rows(handle, batch, self.schema, self.history, self.node_cap)
                 handle.flush()
                 outputs.fsync(self.path)  # the rows are on disk before the counter says so
@@ -400,6 +415,11 @@ class ResultFile:
     def _rebuild(self, batch: _Batch, plan: dict) -> None:
         """A new file with the planned structure, the committed rows and the batch; renamed over the old."""
         rows = batch.rows
+        plan = {
+            **plan,
+            "case_rows": self.done + len(rows),
+            "hist_rows": self.hist_done + len(batch.history_cases),
+        }
         tmp = outputs.new_temp(self.path)
         with self._undone(tmp):
             _skeleton(tmp)
@@ -491,7 +511,7 @@ class ResultFile:
         group = handle.create_group(CONVERGENCE, track_order=True)
         _set_attrs(group, {"long_name": "Newton histories: a CF indexed ragged array, one row per iteration"})
         iteration = _dataset(group, "row", Var(("row",), Kind("i8"), _index("row")), plan)
-        iteration[:] = np.arange(plan["hist_cap"])
+        iteration[:] = np.arange(plan["hist_rows"])
         iteration.make_scale("row")
         _set_attrs(iteration, {"_Netcdf4Dimid": np.int32(2), "_Netcdf4Coordinates": np.array([2], dtype=np.int32)})
         scales["row"] = iteration
@@ -504,8 +524,9 @@ class ResultFile:
     def _copy(self, old, new, plan: dict) -> None:
         """The committed rows of ``old`` into ``new``, block by block (kinds widened, grids broadcast)."""
         n, m = self.done, self.hist_done
+        order = plan.get("order")  # new row i is old row order[i] (None: the same order)
         solved = _get(old, "nodes", 0, n) > 0 if "nodes" in old else np.ones(n, dtype=bool)
-        _copy_rows(old, new, "case", n, plan["node_cap"])
+        _copy_rows(old, new, "case", n, plan["node_cap"], order=order)
         for name, var in self.schema.items():
             target = plan["schema"][name]
             if target.dims == ("node",):
@@ -518,11 +539,12 @@ class ResultFile:
                     block[solved[start:stop], : self.node_cap] = grid
                     _put(new, name, start, block)
             else:
-                _copy_rows(old, new, name, n, self.node_cap, target.kind.dtype)
+                _copy_rows(old, new, name, n, self.node_cap, target.kind.dtype, order)
         group, source = new[CONVERGENCE], old[CONVERGENCE]
+        history_order = None if order is None or not m else _ragged_order(_get(old, "history_rows", 0, n), order)
         for name in ("case_index", *self.history):
             dtype = plan["history"][name].kind.dtype if name in plan["history"] else None
-            _copy_rows(source, group, name, m, 0, dtype)
+            _copy_rows(source, group, name, m, 0, dtype, history_order)
         for name in self.extras:  # through the group's own hook: an HDF5 copy across files breaks the
             hook = GROUP_HOOKS[name]  # object references of dimension scales inside the group
             target = new.require_group(name)
@@ -559,6 +581,7 @@ class ResultFile:
         if batch.history_cases:
             group = handle[CONVERGENCE]
             lo = self.hist_done
+            _put(group, "row", lo, np.arange(lo, lo + len(batch.history_cases), dtype=np.int64))
             _put(group, "case_index", lo, np.array(batch.history_cases, dtype=np.int64))
             for name, values in batch.history.items():
                 _put(group, name, lo, _values(history[name].kind, values))
@@ -571,6 +594,18 @@ class ResultFile:
                 if self.total == 1:  # a single result: its subgroups also at /<name>/<sub> (e.g. stresses/A)
                     for sub in group:
                         handle[name][sub] = h5py.SoftLink(f"/{name}/case_{row.index:06d}/{sub}")
+
+
+def _extend(handle, schema: dict, history: dict, rows: int, history_rows: int) -> None:
+    """Every (case) and (case, node) variable ``rows`` long, every variable of the histories
+    ``history_rows`` long: the file shows plain netCDF readers the committed rows only."""
+    names = ["case", *(name for name, var in schema.items() if var.dims[0] == "case")]
+    group = handle[CONVERGENCE]
+    for parent, targets, length in ((handle, names, rows), (group, ["row", "case_index", *history], history_rows)):
+        for name in targets:
+            dataset = h5py.h5d.open(parent.id, name.encode())
+            if dataset.shape[0] != length:
+                dataset.set_extent((length, *dataset.shape[1:]))
 
 
 def _write_group(group, name: str, payload, units: dict[str, str]) -> None:
@@ -612,14 +647,36 @@ def _get(group, name: str, start: int, stop: int, columns: int | None = None) ->
     return out
 
 
-def _copy_rows(old, new, name: str, n: int, columns: int, dtype=None) -> None:
+def _copy_rows(old, new, name: str, n: int, columns: int, dtype=None, order: np.ndarray | None = None) -> None:
     """The first ``n`` rows (and ``columns`` columns) of a dataset of ``old`` into ``new``, in blocks of
-    :data:`COPY_BYTES` (the memory of a rebuild does not grow with the file)."""
+    :data:`COPY_BYTES` (the memory of a rebuild does not grow with the file); with ``order``, row i
+    of ``new`` is row ``order[i]`` of ``old``."""
     row_bytes = max(1, columns) * 16
     step = max(1, COPY_BYTES // row_bytes)
     for start in range(0, n, step):
-        block = _get(old, name, start, min(n, start + step), columns or None)
+        if order is None:
+            block = _get(old, name, start, min(n, start + step), columns or None)
+        else:
+            block = _gather(old[name], order[start : start + step], columns or None)
         _put(new, name, start, block if dtype is None or block.dtype == dtype else block.astype(dtype))
+
+
+def _gather(dataset, rows: np.ndarray, columns: int | None) -> np.ndarray:
+    """Rows ``rows`` (distinct, in any order) of a dataset, and its first ``columns`` columns."""
+    where = np.argsort(rows)
+    picked = dataset[rows[where]] if dataset.ndim == 1 else dataset[rows[where], : columns or dataset.shape[1]]
+    block = np.empty(picked.shape, dtype=dataset.dtype)
+    block[where] = picked
+    return block
+
+
+def _ragged_order(counts: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """The history rows in the new case order: case ``order[i]``'s rows (``counts`` of each old case,
+    stored contiguously in the old order) come i-th."""
+    counts = counts.astype(np.int64)
+    starts = np.cumsum(counts) - counts
+    lengths = counts[order]
+    return np.repeat(starts[order] - (np.cumsum(lengths) - lengths), lengths) + np.arange(lengths.sum())
 
 
 def _widen(table: dict[str, Var], name: str, kind: Kind | None, dims: tuple[str, ...], attrs: dict) -> None:
@@ -654,11 +711,11 @@ def _nbytes(payload) -> int:
 
 
 def _layout(var: Var, plan: dict) -> tuple[tuple, tuple | None]:
-    """Shape and chunk shape of a variable (None: contiguous, for the (node) variables and
+    """Capacity shape and chunk shape of a variable (None: contiguous, for the (node) variables and
     for files of a fixed number of cases, such as one ``rollc solve`` result)."""
     sizes = {"case": plan["case_cap"], "node": plan["node_cap"], "row": plan["hist_cap"]}
     shape = tuple(sizes[d] for d in var.dims)
-    if var.dims == ("node",) or plan.get("fixed"):
+    if var.dims == ("node",) or (plan.get("fixed") and _extent(var, plan) == shape):
         return shape, None
     if var.dims == ("case", "node"):
         rows = max(1, min(CHUNK_BYTES // max(1, plan["node_cap"] * var.kind.dtype.itemsize), max(shape[0], 1)))
@@ -667,10 +724,19 @@ def _layout(var: Var, plan: dict) -> tuple[tuple, tuple | None]:
     return shape, (max(1, min(rows, shape[0])),)
 
 
+def _extent(var: Var, plan: dict) -> tuple:
+    """The shape a variable has in the file: its ``case`` and ``row`` dimensions as long as the
+    committed rows (plain netCDF readers see no padding rows), the ``node`` one the capacity."""
+    sizes = {"case": plan["case_rows"], "node": plan["node_cap"], "row": plan["hist_rows"]}
+    return tuple(sizes[d] for d in var.dims)
+
+
 def _dataset(group, name: str, var: Var, plan: dict):
-    """Create one variable: chunked with its chunks allocated now (so appends never allocate), fill set."""
-    shape, chunks = _layout(var, plan)
-    maxshape = tuple(None if d in ("case", "row") else s for d, s in zip(var.dims, shape, strict=True))
+    """Create one variable: chunked (its chunks sized for the capacity, those within the committed
+    rows allocated now), fill set; its shape is :func:`_extent`."""
+    capacity, chunks = _layout(var, plan)
+    shape = _extent(var, plan)
+    maxshape = tuple(None if d in ("case", "row") else s for d, s in zip(var.dims, capacity, strict=True))
     dcpl = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
     dcpl.set_alloc_time(h5py.h5d.ALLOC_TIME_EARLY)
     if plan.get("copied") and var.kind.name != "str":  # HDF5 fills variable-length data always
