@@ -92,6 +92,7 @@ SCALARS = {
     "influence": ("influence model of the solve", None),
     "linear_solver": ("linear solver of the Newton steps", None),
     "start": ("start of the solve: warm (from the previous case) or cold", None),
+    "start_traction": ("tangential traction of a warm start: the neighbours' or the closed form's", None),
     "strategies": ("solver strategies run, in order", None),
     "tolerance_applied": ("residual tolerance the solve applied (the round-off floor where larger)", "1"),
     "iterations_total": ("Newton iterations over all mesh levels", "1"),
@@ -170,8 +171,8 @@ TEXT = np.dtype("O", metadata={"vlen": str})
 class Kind:
     """The storage kind of a variable: ``"f8"``, ``"i8"``, ``"i1"`` (state), ``"bool"`` or ``"str"``.
 
-    ``width`` (bytes, text only) is the longest text seen; the file stores text as variable-length
-    strings, so it no longer sizes anything (files of rollc <= 0.1 stored fixed-width text).
+    ``width``: the bytes of a fixed-width text variable of a file of rollc <= 0.1 (read only; 0 for
+    the variable-length text written now, which any text fits, so a longer text changes nothing).
     """
 
     name: str
@@ -201,7 +202,7 @@ def kind_of(value) -> Kind | None:
         return Kind("i8")
     if isinstance(value, (float, np.floating)):
         return Kind("f8")
-    return Kind("str", string_width(len(encode(value))))
+    return Kind("str")
 
 
 #: Python types that a numeric kind stores as they are.
@@ -219,8 +220,7 @@ def column_kind(values: list) -> Kind | None:
     if not types:
         return None
     if types == {str}:
-        text = [v for v in values if v is not None] if None in values else values
-        return Kind("str", string_width(max(map(len, map(str.encode, text)))))
+        return Kind("str")
     for name, allowed in _NUMBERS:
         if types <= allowed:
             return Kind(name)
@@ -249,15 +249,10 @@ def merge(a: Kind | None, b: Kind | None) -> Kind | None:
     if a == b:
         return a
     if a.name == "str" or b.name == "str":
-        return Kind("str", max(a.width, b.width, 8))
+        return Kind("str")  # variable-length: any text fits
     if a.name == b.name:
         return a
     return Kind("f8")
-
-
-def string_width(length: int) -> int:
-    """Bytes of a fixed-width text variable holding ``length`` bytes: a power of two >= 8."""
-    return max(8, 1 << max(0, length - 1).bit_length())
 
 
 def encode(value) -> bytes:

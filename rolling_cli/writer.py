@@ -1,22 +1,26 @@
 """The single writer of a result file (layout: :mod:`rolling_cli.layout`): rows appended, never rewritten.
 
-Every variable with the ``case`` dimension is chunked, its chunks allocated
-(and filled) when the file is built, for a capacity of rows. A commit of new
-rows then only writes data into space the file already has, flushes it, and
-writes the ``cases_complete`` attribute last, in place: no HDF5 structure
-changes, the file does not grow, and a kill at any moment leaves a file whose
-first ``cases_complete`` rows are complete. (Readers and ``--resume`` trust
-nothing beyond them.)
+Every variable with the ``case`` dimension is chunked, its chunks sized for a
+capacity of rows; the ``case`` dimension (and the histories' ``row``) is as long
+as the committed rows, so a reader that knows nothing of ``cases_complete``
+(plain xarray, ncdump) sees no padding row. A commit of new rows extends those
+dimensions (HDF5 allocates the chunks the rows reach; text goes to the global
+heap), writes the rows, flushes, and writes the ``cases_complete`` attribute
+last, in place: a kill between commits leaves a file whose rows are all
+complete. (Readers and ``--resume`` trust nothing beyond ``cases_complete``.)
 
 Anything that changes the structure (the first rows, more rows than the
-capacity, a new variable, a longer text, more nodes, cases whose grids
-differ, an extra group, the final trim) rebuilds the file: a new file under a
-temporary name, its space reserved first (so a full disk or a file-size limit
-fails before HDF5 writes, leaving the old file untouched), the committed rows
-copied block by block, then an atomic rename. The first capacity is what fits
-in 256 MB (or the whole sweep, when smaller), then four times more each time,
-so the growth copies at most a third of the final file; the final trim (one
-copy) gives every dimension its exact length.
+capacity, a new variable, more nodes, cases whose grids differ, an extra group,
+the final trim, rows out of sweep order at the end) rebuilds the file: a new
+file under a temporary name, its space reserved first (so a full disk or a
+file-size limit fails before HDF5 writes, leaving the old file untouched), the
+committed rows copied block by block (in sweep order), then an atomic rename.
+The first capacity is what fits in 256 MB (or the whole sweep, when smaller),
+then four times more each time, so the growth copies at most a third of the
+final file; the final trim (one copy) fits the chunks to the rows.
+
+Text is stored as variable-length UTF-8 strings without a fill value: netCDF-4's
+own ``string`` type (netCDF-C aborts on fixed-length HDF5 strings).
 """
 
 from __future__ import annotations
@@ -204,8 +208,27 @@ class ResultFile:
             self.extras = {name for name in GROUP_HOOKS if name in handle}
             self.units = self._read_units(handle)
             fixed_text = any(isinstance(o, h5py.Dataset) and o.dtype.kind == "S" for o in _datasets(handle))
-        self.restructure = fixed_text  # an older file's fixed-width text: the next commit rebuilds it
+        described = self._describe_all()
+        self.restructure = fixed_text or described  # an older file: the next commit rebuilds it
         return self
+
+    def _describe_all(self) -> bool:
+        """Give the variables of an older file the ``long_name`` and ``units`` they lack; True if any did."""
+        keys = {coordinate_name(k): k for k in self.keys}
+        node_meta = _node_meta()
+        changed = False
+        for table, schema in ((None, self.schema), (HISTORY, self.history)):
+            for name, var in schema.items():
+                if table is HISTORY:
+                    known = describe(name, HISTORY, self.units)
+                elif name in keys:
+                    known = swept(keys[name], self.units, text=var.kind.name == "str")
+                else:
+                    known = describe(name, SCALARS if var.dims == ("case",) else node_meta, self.units)
+                missing = {k: v for k, v in known.items() if k not in var.attrs}
+                var.attrs.update(missing)
+                changed = changed or bool(missing)
+        return changed
 
     @staticmethod
     def _read_schema(group, skip) -> dict[str, Var]:

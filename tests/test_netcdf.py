@@ -12,6 +12,7 @@ import json
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import h5py
 import pytest
@@ -68,7 +69,7 @@ def files(tmp_path_factory) -> dict:
     adaptive = case_dict(SMALL, **{"discretization.tolerance": 3e-3})
     runs = {
         "result": ("solve", write_case(folder, SMALL, "r.toml")),
-        "sweep": ("sweep", write_case(folder, SMALL, "s.toml"), "--set", "friction.mu=0.1,0.2"),
+        "sweep": ("sweep", write_case(folder, SMALL, "s.toml")),
         "stresses": ("solve", write_case(folder, stresses, "t.toml")),
         "stresses_sweep": ("sweep", write_case(folder, stresses, "u.toml"), "--set", "tangential.q_over_mu_p=0.2,1.2"),
         "adaptive": ("solve", write_case(folder, adaptive, "a.toml")),
@@ -76,7 +77,9 @@ def files(tmp_path_factory) -> dict:
     out = {}
     for name, (command, *args) in runs.items():
         path = folder / f"{name}.h5"
-        extra = ("--set", "normal.load=900,1812.5", "--workers", 1) if name == "sweep" else ("--workers", 1)
+        # mu the fastest key: the third case of each load warm-starts (its variables: start_traction)
+        keys = ("--set", "normal.load=900,1812.5", "--set", "friction.mu=0.1,0.2,0.3")
+        extra = (*keys, "--workers", 1) if name == "sweep" else ("--workers", 1)
         run = run_cli("-q", command, *args, *(extra if command == "sweep" else ()), "-o", path)
         assert run.exit_code in (0, 1), run.output  # 1: the stresses sweep's gross-sliding case failed
         out[name] = path
@@ -135,6 +138,7 @@ def test_swept_coordinates_carry_the_units_of_their_key(files):
     variables = _variables(files["sweep"])
     assert variables["friction_mu"]["units"] == "1" and variables["normal_load_set"]["units"] == "N/mm"
     assert variables["normal_load_set"]["units"] == variables["normal_load"]["units"]
+    assert "start_traction" in variables
     swept = _variables(files["stresses_sweep"])["tangential_q_over_mu_p"]
     assert swept["units"] == "1" and "q_over_mu_p" in swept["long_name"]
 
@@ -148,3 +152,28 @@ def test_text_reads_back_the_same_in_netcdf_c(files):
     script = "import json, sys, netCDF4; print(json.dumps(list(netCDF4.Dataset(sys.argv[1])['message'][:])))"
     done = _crash_free([sys.executable, "-c", script, path], "netCDF4 reading the messages")
     assert json.loads(done.stdout) == messages
+
+
+def test_a_file_with_fixed_length_text_is_read_and_resumed_into_one_netcdf_c_reads(tmp_path):
+    """tests/data/v2_fixed_text.h5: a sweep (friction.mu = 0.1, 0.2, 0.3) that rollc 0.1's writer left
+    after one case, its text fixed-length. rolling_cli reads it; ``--resume`` rewrites it: the two other
+    cases added, text variable-length, the missing long_name/units added, and netCDF-C reads it."""
+    from rolling_cli import read_result, sweep
+    from rolling_cli.case import load_case
+
+    path = tmp_path / "old.h5"
+    path.write_bytes((Path(__file__).parent / "data" / "v2_fixed_text.h5").read_bytes())
+    with h5py.File(path) as handle:
+        assert handle["title"].dtype.kind == "S" and handle.attrs["cases_complete"] == 1
+    old = read_result(path, row=0)
+    assert old.attributes["title"] == "format 2 fixed-text fixture" and old.attributes["message"] == ""
+    base = load_case(case_dict(**{"discretization.contact_elements": 10, "title": "format 2 fixed-text fixture"}))
+    report = sweep.run(base, sweep.spec_from_options(["friction.mu=0.1,0.2,0.3"], False), str(path), resume=True)
+    assert sorted(report.records) == [1, 2] and report.skipped == 1
+    _crash_free([sys.executable, "-c", READ, str(path)], "netCDF4/xarray reading the resumed file")
+    variables = _variables(path)
+    assert not [name for name, attrs in variables.items() if not attrs.get("long_name")]
+    assert variables["friction_mu"]["units"] == "1"
+    with h5py.File(path) as handle:
+        assert list(handle["case"][()]) == [0, 1, 2] and h5py.check_string_dtype(handle["title"].dtype)
+        assert [t.decode() for t in handle["title"][()]] == ["format 2 fixed-text fixture"] * 3
