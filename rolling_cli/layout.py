@@ -9,7 +9,11 @@ netCDF-4/CF-compatible HDF5 that ``xarray.open_dataset`` opens as is:
   iterations, residual, times, message, ...) is a ``(case)`` variable, and so
   is any scalar another stage adds to ``Result.attributes``;
 * the swept keys are ``(case)`` coordinates named by :func:`coordinate_name`
-  (``friction.mu`` -> ``friction_mu``; the dotted key is in ``case_key``);
+  (``friction.mu`` -> ``friction_mu``; the dotted key is in ``case_key``, the
+  key's units in ``units``: :func:`swept`);
+* every variable has ``long_name``, every number ``units`` ("1" when
+  dimensionless; flags and text none); text is netCDF-4 ``string``
+  (variable-length UTF-8: netCDF-C reads it);
 * per-node fields (p_n, p_t, delta_n, s_t, state, the Hertz/Carter references,
   any array field of :class:`~rolling_cli.result.Result` over the nodes) are
   ``(case, node)`` variables, NaN-padded (state: -1) when node counts differ;
@@ -306,7 +310,7 @@ def swept(key: str, units: dict[str, str], text: bool) -> dict:
     found = re.search(r"\[([a-z/^]+)\]", doc)
     attrs = {"long_name": f"swept case key {key}" + (f": {doc}" if doc else ""), "case_key": key}
     if not text:
-        attrs["units"] = units_of(found.group(1), units) if found else "1"
+        attrs["units"] = (units_of(found.group(1), units) or "1") if found else "1"
     return attrs
 
 
