@@ -25,7 +25,7 @@ SMALL = case_dict(**{"discretization.contact_elements": 40})
 STRESSES = {"points": [11, 7], "depth": 2.0}
 
 #: Opens ``argv[1]`` with netCDF4 (every variable of every group read in full) and with xarray's
-#: default engine (each group, loaded, compared with the h5netcdf engine); prints the groups as JSON.
+#: default engine; prints the groups as JSON.
 READ = r"""
 import json, sys
 import netCDF4, xarray as xr
@@ -45,11 +45,11 @@ def walk(group, name):
 with netCDF4.Dataset(path) as handle:
     walk(handle, "")
 assert guess_engine(path) == "netcdf4", guess_engine(path)
-for group in groups:
-    with xr.open_dataset(path, group=group or None) as default, xr.open_dataset(
-        path, group=group or None, engine="h5netcdf"
-    ) as h5:
-        xr.testing.assert_equal(default.load(), h5.load())
+# xarray's default engine: the root, the histories and one stresses group (the others have its
+# layout), decoded and loaded; the h5netcdf engine is the other tests' reader
+for group in [g for g in groups if g.count("/") == 0 or g.endswith("case_000000/A")]:
+    with xr.open_dataset(path, group=group or None) as default:
+        default.load()
 print(json.dumps(groups))
 """
 
