@@ -9,7 +9,11 @@ netCDF-4/CF-compatible HDF5 that ``xarray.open_dataset`` opens as is:
   iterations, residual, times, message, ...) is a ``(case)`` variable, and so
   is any scalar another stage adds to ``Result.attributes``;
 * the swept keys are ``(case)`` coordinates named by :func:`coordinate_name`
-  (``friction.mu`` -> ``friction_mu``; the dotted key is in ``case_key``);
+  (``friction.mu`` -> ``friction_mu``; the dotted key is in ``case_key``, the
+  key's units in ``units``: :func:`swept`);
+* every variable has ``long_name``, every number ``units`` ("1" when
+  dimensionless; flags and text none); text is netCDF-4 ``string``
+  (variable-length UTF-8: netCDF-C reads it);
 * per-node fields (p_n, p_t, delta_n, s_t, state, the Hertz/Carter references,
   any array field of :class:`~rolling_cli.result.Result` over the nodes) are
   ``(case, node)`` variables, NaN-padded (state: -1) when node counts differ;
@@ -58,6 +62,46 @@ SCALARS = {
     **{name: (q.long_name, q.unit) for name, q in QUANTITIES.items() if q.kind != "array"},
     "nodes": ("contact nodes of the case (per-node variables are padded beyond)", "1"),
     "history_rows": ("rows of the case in group convergence", "1"),
+    "title": ("title of the case", None),
+    "bodies": ("kinds of the bodies A and B", None),
+    "effects": ("why each effect was simulated or skipped (JSON)", None),
+    "effects_line": ("why each effect was simulated or skipped, one line", None),
+    "influence": ("influence model of the solve", None),
+    "linear_solver": ("linear solver of the Newton steps", None),
+    "start": ("start of the solve: warm (from the previous case) or cold", None),
+    "start_traction": ("tangential traction of a warm start: the neighbours' or the closed form's", None),
+    "strategies": ("solver strategies run, in order", None),
+    "tolerance_applied": ("residual tolerance the solve applied (the round-off floor where larger)", "1"),
+    "iterations_total": ("Newton iterations over all mesh levels", "1"),
+    "time_total_solve": ("wall time of the solve over all mesh levels", "s"),
+    "frictional_power_total": ("frictional power per unit rolling speed, sum w (-p_t s_t)", "force/length"),
+    "half_space_ratio": ("a/R of the most curved body (half-space validity)", "1"),
+    "validity_warning": ("why the half-space model does not describe the bodies (empty when it does)", None),
+    "unit_length": ("the case's length unit", None),
+    "unit_stress": ("the case's stress unit", None),
+    "unit_line_force": ("the case's force per length unit", None),
+    "adaptive_tolerance": ("requested traction error / (mu p0)", "1"),
+    "adaptive_estimate": ("estimated traction error / (mu p0) of the final mesh", "1"),
+    "adaptive_met": ("the estimate meets the requested tolerance", None),
+    "adaptive_refinements": ("mesh refinements after the first mesh", "1"),
+    "adaptive_method": ("adaptive mesh method", None),
+    "adaptive_note": ("how the adaptive loop ended", None),
+    "adaptive_creep_change": ("relative change of the creepage at the last refinement", "1"),
+    "adaptive_history": ("estimates and meshes of the adaptive loop (JSON)", None),
+    "element_order": ("order of the contact elements", "1"),
+    "error_estimate": ("estimated traction error / (mu p0)", "1"),
+    "stress_bodies": ("bodies whose subsurface stresses were computed", None),
+    "stress_length_scale": ("length scale a of the stress maxima's positions", "length"),
+    "stress_pressure_scale": ("peak contact pressure p0 = max(-p_n)", "stress"),
+    "time_stresses": ("wall time of the subsurface stresses", "s"),
+}
+
+#: Per-case maxima of the stress indicators (rolling_cli.stresses.report): suffix -> (long name, unit key).
+STRESS_MAXIMA = {
+    "": ("largest {} over the bodies", "stress"),
+    "_x_over_a": ("x/a of the largest {}", "1"),
+    "_z_over_a": ("z/a (depth) of the largest {}", "1"),
+    "_body": ("body of the largest {}", None),
 }
 
 #: Per-node fields: name -> (long name, unit key). Result.DATASETS adds to these.
@@ -77,21 +121,46 @@ HISTORY = {
     "contact": ("contact nodes", "1"),
     "stick": ("adhesion nodes", "1"),
     "step": ("line-search step length", "1"),
+    "edge": ("the contact reaches an end of the potential zone", None),
+    "level": ("mesh level of the row", None),
+    "linear_solver": ("linear solver of the step", None),
+    "strategy": ("solver strategy of the row", None),
+    "tolerance": ("residual tolerance applied at the row", "1"),
 }
+
+#: Unit keys of the variables of extra groups (rolling_cli.rows.GROUP_HOOKS) that lack units.
+GROUP_UNITS = {"element_edges": "length"}
+
+#: Index variables (dimension coordinates and the ragged array's index): long name, unit "1".
+INDEXES = {
+    "case": "case index in the sweep",
+    "node": "contact node index",
+    "row": "row of the Newton histories",
+    "case_index": "case of the row",
+}
+
+
+#: The dtype of text variables: variable-length UTF-8 strings (h5py.string_dtype(), without importing h5py).
+TEXT = np.dtype("O", metadata={"vlen": str})
 
 
 @dataclass(frozen=True)
 class Kind:
-    """The storage kind of a variable: ``"f8"``, ``"i8"``, ``"i1"`` (state), ``"bool"`` or ``"str"`` (width bytes)."""
+    """The storage kind of a variable: ``"f8"``, ``"i8"``, ``"i1"`` (state), ``"bool"`` or ``"str"``.
+
+    ``width``: the bytes of a fixed-width text variable of a file of rollc <= 0.1 (read only; 0 for
+    the variable-length text written now, which any text fits, so a longer text changes nothing).
+    """
 
     name: str
     width: int = 0
 
     @functools.cached_property
     def dtype(self) -> np.dtype:
-        """The HDF5/numpy storage type (bool as int8, text as fixed-width UTF-8 bytes)."""
+        """The HDF5/numpy storage type (bool as int8, text as variable-length UTF-8: netCDF-4's
+        ``string``, which netCDF-C reads; it aborts on fixed-length HDF5 strings)."""
         if self.name == "str":
-            return np.dtype(f"S{self.width}")
+            return TEXT
         return np.dtype({"bool": "i1"}.get(self.name, self.name))
 
     @property
@@ -110,7 +179,7 @@ def kind_of(value) -> Kind | None:
         return Kind("i8")
     if isinstance(value, (float, np.floating)):
         return Kind("f8")
-    return Kind("str", string_width(len(encode(value))))
+    return Kind("str")
 
 
 #: Python types that a numeric kind stores as they are.
@@ -128,8 +197,7 @@ def column_kind(values: list) -> Kind | None:
     if not types:
         return None
     if types == {str}:
-        text = [v for v in values if v is not None] if None in values else values
-        return Kind("str", string_width(max(map(len, map(str.encode, text)))))
+        return Kind("str")
     for name, allowed in _NUMBERS:
         if types <= allowed:
             return Kind(name)
@@ -158,15 +226,10 @@ def merge(a: Kind | None, b: Kind | None) -> Kind | None:
     if a == b:
         return a
     if a.name == "str" or b.name == "str":
-        return Kind("str", max(a.width, b.width, 8))
+        return Kind("str")  # variable-length: any text fits
     if a.name == b.name:
         return a
     return Kind("f8")
-
-
-def string_width(length: int) -> int:
-    """Bytes of a fixed-width text variable holding ``length`` bytes: a power of two >= 8."""
-    return max(8, 1 << max(0, length - 1).bit_length())
 
 
 def encode(value) -> bytes:
@@ -210,10 +273,30 @@ def units_of(unit_key: str | None, units: dict[str, str]) -> str | None:
     return units.get(unit_key, unit_key)
 
 
+def swept(key: str, units: dict[str, str], text: bool) -> dict:
+    """Attributes of the coordinate of the swept dotted ``key``: its case key, a long name from the
+    case schema's documentation, and its units (the ``[length]`` etc. of that documentation in the
+    case's units; "1" for numbers without one; none for text)."""
+    from .case.validate import field_metadata
+
+    doc = field_metadata(key).get("doc", "")
+    found = re.search(r"\[([a-z/^]+)\]", doc)
+    attrs = {"long_name": f"swept case key {key}" + (f": {doc}" if doc else ""), "case_key": key}
+    if not text:
+        attrs["units"] = (units_of(found.group(1), units) or "1") if found else "1"
+    return attrs
+
+
 def describe(name: str, table: dict, units: dict[str, str]) -> dict:
     """``long_name`` and ``units`` attributes of a known variable (none for unknown ones)."""
     if name not in table:
-        return {}
+        found = re.fullmatch(r"stress_max_(\w+?)(|_x_over_a|_z_over_a|_body)", name) if table is SCALARS else None
+        if found is None:
+            return {}
+        text, unit_key = STRESS_MAXIMA[found.group(2)]
+        long_name = text.format(found.group(1).replace("_", " "))
+        unit = units_of(unit_key, units)
+        return {"long_name": long_name, **({"units": unit} if unit else {})}
     long_name, unit_key = table[name]
     unit = units_of(unit_key, units)
     return {"long_name": long_name, **({"units": unit} if unit else {})}

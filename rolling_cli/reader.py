@@ -69,7 +69,7 @@ def swept_names(handle) -> dict[str, str]:
 
 
 def _decode(ds, values: np.ndarray) -> np.ndarray:
-    if ds.dtype.kind == "S":
+    if ds.dtype.kind == "S" or (ds.dtype.kind == "O" and values.size and isinstance(values.flat[0], bytes)):
         return np.array([v.decode() for v in values], dtype=object)
     if plain(ds.attrs.get("dtype")) == "bool":
         return values.astype(bool)

@@ -47,8 +47,9 @@ def _read_stresses(group):
 
 
 def _write_edges(group, edges) -> None:
-    group.create_dataset("element_edges", data=np.asarray(edges, dtype=float))
-    group["element_edges"].attrs["long_name"] = "element edges of the graded contact grid (x, in the solver's frame)"
+    ds = group.create_dataset("element_edges", data=np.asarray(edges, dtype=float))
+    ds.attrs["long_name"] = "element edges of the graded contact grid (x, in the solver's frame)"
+    ds.make_scale("element_edges")  # its own dimension (netCDF readers need one; no phony dimension)
 
 
 def _read_edges(group) -> np.ndarray:

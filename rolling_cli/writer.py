@@ -1,22 +1,26 @@
 """The single writer of a result file (layout: :mod:`rolling_cli.layout`): rows appended, never rewritten.
 
-Every variable with the ``case`` dimension is chunked, its chunks allocated
-(and filled) when the file is built, for a capacity of rows. A commit of new
-rows then only writes data into space the file already has, flushes it, and
-writes the ``cases_complete`` attribute last, in place: no HDF5 structure
-changes, the file does not grow, and a kill at any moment leaves a file whose
-first ``cases_complete`` rows are complete. (Readers and ``--resume`` trust
-nothing beyond them.)
+Every variable with the ``case`` dimension is chunked, its chunks sized for a
+capacity of rows; the ``case`` dimension (and the histories' ``row``) is as long
+as the committed rows, so a reader that knows nothing of ``cases_complete``
+(plain xarray, ncdump) sees no padding row. A commit of new rows extends those
+dimensions (HDF5 allocates the chunks the rows reach; text goes to the global
+heap), writes the rows, flushes, and writes the ``cases_complete`` attribute
+last, in place: a kill between commits leaves a file whose rows are all
+complete. (Readers and ``--resume`` trust nothing beyond ``cases_complete``.)
 
 Anything that changes the structure (the first rows, more rows than the
-capacity, a new variable, a longer text, more nodes, cases whose grids
-differ, an extra group, the final trim) rebuilds the file: a new file under a
-temporary name, its space reserved first (so a full disk or a file-size limit
-fails before HDF5 writes, leaving the old file untouched), the committed rows
-copied block by block, then an atomic rename. The first capacity is what fits
-in 256 MB (or the whole sweep, when smaller), then four times more each time,
-so the growth copies at most a third of the final file; the final trim (one
-copy) gives every dimension its exact length.
+capacity, a new variable, more nodes, cases whose grids differ, an extra group,
+the final trim, rows out of sweep order at the end) rebuilds the file: a new
+file under a temporary name, its space reserved first (so a full disk or a
+file-size limit fails before HDF5 writes, leaving the old file untouched), the
+committed rows copied block by block (in sweep order), then an atomic rename.
+The first capacity is what fits in 256 MB (or the whole sweep, when smaller),
+then four times more each time, so the growth copies at most a third of the
+final file; the final trim (one copy) fits the chunks to the rows.
+
+Text is stored as variable-length UTF-8 strings without a fill value: netCDF-4's
+own ``string`` type (netCDF-C aborts on fixed-length HDF5 strings).
 """
 
 from __future__ import annotations
@@ -37,7 +41,9 @@ from .layout import (
     CONVENTIONS,
     CONVERGENCE,
     GRID,
+    GROUP_UNITS,
     HISTORY,
+    INDEXES,
     NODE_FIELDS,
     SCALARS,
     Kind,
@@ -48,6 +54,8 @@ from .layout import (
     dtype_kind,
     encode,
     merge,
+    swept,
+    units_of,
 )
 from .outputs import WriteError
 from .reader import plain
@@ -73,6 +81,10 @@ _INTERNAL = {"DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid
 
 def _units() -> dict[str, str]:
     return {"length": "length", "stress": "stress", "force/length": "force/length", "1": "1"}
+
+
+def _index(name: str) -> dict:
+    return {"long_name": INDEXES[name], "units": "1"}
 
 
 def _node_meta() -> dict:
@@ -195,8 +207,28 @@ class ResultFile:
                     self.grid[name] = handle[name][()]
             self.extras = {name for name in GROUP_HOOKS if name in handle}
             self.units = self._read_units(handle)
-        self.restructure = False
+            fixed_text = any(isinstance(o, h5py.Dataset) and o.dtype.kind == "S" for o in _datasets(handle))
+        described = self._describe_all()
+        self.restructure = fixed_text or described  # an older file: the next commit rebuilds it
         return self
+
+    def _describe_all(self) -> bool:
+        """Give the variables of an older file the ``long_name`` and ``units`` they lack; True if any did."""
+        keys = {coordinate_name(k): k for k in self.keys}
+        node_meta = _node_meta()
+        changed = False
+        for table, schema in ((None, self.schema), (HISTORY, self.history)):
+            for name, var in schema.items():
+                if table is HISTORY:
+                    known = describe(name, HISTORY, self.units)
+                elif name in keys:
+                    known = swept(keys[name], self.units, text=var.kind.name == "str")
+                else:
+                    known = describe(name, SCALARS if var.dims == ("case",) else node_meta, self.units)
+                missing = {k: v for k, v in known.items() if k not in var.attrs}
+                var.attrs.update(missing)
+                changed = changed or bool(missing)
+        return changed
 
     @staticmethod
     def _read_schema(group, skip) -> dict[str, Var]:
@@ -206,8 +238,10 @@ class ResultFile:
                 continue
             dims = tuple(obj.dims[i].keys()[0] if obj.dims[i].keys() else "" for i in range(obj.ndim))
             attrs = {k: v for k, v in obj.attrs.items() if k not in _INTERNAL}
-            if obj.dtype.kind == "S":
+            if obj.dtype.kind == "S":  # fixed-width text (rollc <= 0.1): rebuilt as variable-length
                 kind = Kind("str", obj.dtype.itemsize)
+            elif h5py.check_string_dtype(obj.dtype):
+                kind = Kind("str")
             elif plain(attrs.get("dtype")) == "bool":
                 kind = Kind("bool")
             elif obj.dtype == np.int8:
@@ -268,15 +302,27 @@ class ResultFile:
             raise
 
     def close(self) -> None:
-        """Commit, then trim every dimension to its exact length (a rebuild when there is slack)."""
+        """Commit, then trim every dimension to its exact length and put the rows in sweep order (a
+        rebuild when there is slack or the rows are out of order: a parallel run interrupted and
+        resumed commits the cases its workers had finished before those it had not)."""
         self.commit()
         if self.broken:
             return
-        if self.case_cap > self.done or self.hist_cap > self.hist_done:
+        order = self._sweep_order()
+        if self.case_cap > self.done or self.hist_cap > self.hist_done or order is not None:
             plan = self._same_plan()
             plan["case_cap"], plan["hist_cap"] = self.done, self.hist_done
             plan["copied"] = True  # every element is copied: no fill values to write first
+            plan["order"] = order
             self._rebuild(_Batch.of([], self.keys), plan)
+
+    def _sweep_order(self) -> np.ndarray | None:
+        """The committed rows' order by case index (None when they are in that order already)."""
+        if not self.exists or self.done < 2:
+            return None
+        with h5py.File(self.path, "r") as handle:
+            cases = _get(handle, "case", 0, self.done)
+        return None if np.all(np.diff(cases) > 0) else np.argsort(cases, kind="stable")
 
     # ----------------------------------------------------------------- planning
     def _same_plan(self) -> dict:
@@ -300,8 +346,9 @@ class ResultFile:
         if units and not self.schema:
             self.units = {**self.units, **units}
         for key, values in batch.coords.items():
-            attrs = {"long_name": f"swept case key {key}", "case_key": key}
-            _widen(schema, coordinate_name(key), column_kind(values), ("case",), attrs)
+            kind = column_kind(values)
+            attrs = swept(key, self.units, text=kind is not None and kind.name == "str")
+            _widen(schema, coordinate_name(key), kind, ("case",), attrs)
         for name, values in batch.scalars.items():
             _widen(schema, name, column_kind(values), ("case",), describe(name, SCALARS, self.units))
         node_meta = _node_meta()
@@ -370,6 +417,9 @@ class ResultFile:
         rows = batch.rows
         try:
             with h5py.File(self.path, "r+", libver=LIBVER) as handle:
+                _extend(
+                    handle, self.schema, self.history, self.done + len(rows), self.hist_done + len(batch.history_cases)
+                )
                 self._write_rows(handle, batch, self.schema, self.history, self.node_cap)
                 handle.flush()
                 outputs.fsync(self.path)  # the rows are on disk before the counter says so
@@ -388,6 +438,11 @@ class ResultFile:
     def _rebuild(self, batch: _Batch, plan: dict) -> None:
         """A new file with the planned structure, the committed rows and the batch; renamed over the old."""
         rows = batch.rows
+        plan = {
+            **plan,
+            "case_rows": self.done + len(rows),
+            "hist_rows": self.hist_done + len(batch.history_cases),
+        }
         tmp = outputs.new_temp(self.path)
         with self._undone(tmp):
             _skeleton(tmp)
@@ -458,10 +513,10 @@ class ResultFile:
         """Every dimension, coordinate and variable of ``plan``, its space allocated and filled."""
         root = {**self.attrs, "Conventions": CONVENTIONS}
         _set_attrs(handle, {k: np.int8(v) if isinstance(v, bool) else v for k, v in root.items() if v is not None})
-        case = _dataset(handle, "case", Var(("case",), Kind("i8"), {"long_name": "case index in the sweep"}), plan)
+        case = _dataset(handle, "case", Var(("case",), Kind("i8"), _index("case")), plan)
         case.make_scale("case")
         _set_attrs(case, {"_Netcdf4Dimid": np.int32(0), "_Netcdf4Coordinates": np.array([0], dtype=np.int32)})
-        node = _dataset(handle, "node", Var(("node",), Kind("i8"), {"long_name": "contact node index"}), plan)
+        node = _dataset(handle, "node", Var(("node",), Kind("i8"), _index("node")), plan)
         node[:] = np.arange(plan["node_cap"])
         node.make_scale("node")
         _set_attrs(node, {"_Netcdf4Dimid": np.int32(1), "_Netcdf4Coordinates": np.array([1], dtype=np.int32)})
@@ -478,12 +533,12 @@ class ResultFile:
                 ds[: plan["grid"][name].size] = plan["grid"][name]
         group = handle.create_group(CONVERGENCE, track_order=True)
         _set_attrs(group, {"long_name": "Newton histories: a CF indexed ragged array, one row per iteration"})
-        iteration = _dataset(group, "row", Var(("row",), Kind("i8"), {"long_name": "row"}), plan)
-        iteration[:] = np.arange(plan["hist_cap"])
+        iteration = _dataset(group, "row", Var(("row",), Kind("i8"), _index("row")), plan)
+        iteration[:] = np.arange(plan["hist_rows"])
         iteration.make_scale("row")
         _set_attrs(iteration, {"_Netcdf4Dimid": np.int32(2), "_Netcdf4Coordinates": np.array([2], dtype=np.int32)})
         scales["row"] = iteration
-        index_var = Var(("row",), Kind("i8"), {"long_name": "case of the row", "instance_dimension": "case"})
+        index_var = Var(("row",), Kind("i8"), {**_index("case_index"), "instance_dimension": "case"})
         ds = _dataset(group, "case_index", index_var, plan)
         _attach(ds, ("row",), scales)
         for name, var in plan["history"].items():
@@ -492,8 +547,9 @@ class ResultFile:
     def _copy(self, old, new, plan: dict) -> None:
         """The committed rows of ``old`` into ``new``, block by block (kinds widened, grids broadcast)."""
         n, m = self.done, self.hist_done
+        order = plan.get("order")  # new row i is old row order[i] (None: the same order)
         solved = _get(old, "nodes", 0, n) > 0 if "nodes" in old else np.ones(n, dtype=bool)
-        _copy_rows(old, new, "case", n, plan["node_cap"])
+        _copy_rows(old, new, "case", n, plan["node_cap"], order=order)
         for name, var in self.schema.items():
             target = plan["schema"][name]
             if target.dims == ("node",):
@@ -506,18 +562,19 @@ class ResultFile:
                     block[solved[start:stop], : self.node_cap] = grid
                     _put(new, name, start, block)
             else:
-                _copy_rows(old, new, name, n, self.node_cap, target.kind.dtype)
+                _copy_rows(old, new, name, n, self.node_cap, target.kind.dtype, order)
         group, source = new[CONVERGENCE], old[CONVERGENCE]
+        history_order = None if order is None or not m else _ragged_order(_get(old, "history_rows", 0, n), order)
         for name in ("case_index", *self.history):
             dtype = plan["history"][name].kind.dtype if name in plan["history"] else None
-            _copy_rows(source, group, name, m, 0, dtype)
+            _copy_rows(source, group, name, m, 0, dtype, history_order)
         for name in self.extras:  # through the group's own hook: an HDF5 copy across files breaks the
             hook = GROUP_HOOKS[name]  # object references of dimension scales inside the group
             target = new.require_group(name)
             for key, source in old[name].items():
                 if old[name].get(key, getlink=True).__class__ is h5py.SoftLink:
                     continue  # a single result's links are made again below
-                hook.write(target.create_group(key), hook.read(source))
+                _write_group(target.create_group(key), name, hook.read(source), self.units)
             if self.total == 1:
                 for key in list(target):
                     for sub in target[key] if key.startswith("case_") else ():
@@ -547,6 +604,7 @@ class ResultFile:
         if batch.history_cases:
             group = handle[CONVERGENCE]
             lo = self.hist_done
+            _put(group, "row", lo, np.arange(lo, lo + len(batch.history_cases), dtype=np.int64))
             _put(group, "case_index", lo, np.array(batch.history_cases, dtype=np.int64))
             for name, values in batch.history.items():
                 _put(group, name, lo, _values(history[name].kind, values))
@@ -555,10 +613,39 @@ class ResultFile:
         for row in rows:
             for name, payload in row.extras.items():
                 group = handle.require_group(name).create_group(f"case_{row.index:06d}")
-                GROUP_HOOKS[name].write(group, payload)
+                _write_group(group, name, payload, self.units)
                 if self.total == 1:  # a single result: its subgroups also at /<name>/<sub> (e.g. stresses/A)
                     for sub in group:
                         handle[name][sub] = h5py.SoftLink(f"/{name}/case_{row.index:06d}/{sub}")
+
+
+def _extend(handle, schema: dict, history: dict, rows: int, history_rows: int) -> None:
+    """Every (case) and (case, node) variable ``rows`` long, every variable of the histories
+    ``history_rows`` long: the file shows plain netCDF readers the committed rows only."""
+    names = ["case", *(name for name, var in schema.items() if var.dims[0] == "case")]
+    group = handle[CONVERGENCE]
+    for parent, targets, length in ((handle, names, rows), (group, ["row", "case_index", *history], history_rows)):
+        for name in targets:
+            dataset = h5py.h5d.open(parent.id, name.encode())
+            if dataset.shape[0] != length:
+                dataset.set_extent((length, *dataset.shape[1:]))
+
+
+def _write_group(group, name: str, payload, units: dict[str, str]) -> None:
+    """An extra group through its hook; its variables that have no units get those of
+    :data:`~rolling_cli.layout.GROUP_UNITS` (the hooks do not know the case's units)."""
+    GROUP_HOOKS[name].write(group, payload)
+    for ds in _datasets(group):
+        key = GROUP_UNITS.get(ds.name.rsplit("/", 1)[-1])
+        if key and "units" not in ds.attrs:
+            ds.attrs["units"] = units_of(key, units)
+
+
+def _datasets(group) -> list:
+    """The datasets of ``group`` and of its subgroups."""
+    found: list = []
+    group.visititems(lambda _, obj: found.append(obj) if isinstance(obj, h5py.Dataset) else None)
+    return found
 
 
 def _put(group, name: str, start: int, values: np.ndarray) -> None:
@@ -583,14 +670,36 @@ def _get(group, name: str, start: int, stop: int, columns: int | None = None) ->
     return out
 
 
-def _copy_rows(old, new, name: str, n: int, columns: int, dtype=None) -> None:
+def _copy_rows(old, new, name: str, n: int, columns: int, dtype=None, order: np.ndarray | None = None) -> None:
     """The first ``n`` rows (and ``columns`` columns) of a dataset of ``old`` into ``new``, in blocks of
-    :data:`COPY_BYTES` (the memory of a rebuild does not grow with the file)."""
+    :data:`COPY_BYTES` (the memory of a rebuild does not grow with the file); with ``order``, row i
+    of ``new`` is row ``order[i]`` of ``old``."""
     row_bytes = max(1, columns) * 16
     step = max(1, COPY_BYTES // row_bytes)
     for start in range(0, n, step):
-        block = _get(old, name, start, min(n, start + step), columns or None)
+        if order is None:
+            block = _get(old, name, start, min(n, start + step), columns or None)
+        else:
+            block = _gather(old[name], order[start : start + step], columns or None)
         _put(new, name, start, block if dtype is None or block.dtype == dtype else block.astype(dtype))
+
+
+def _gather(dataset, rows: np.ndarray, columns: int | None) -> np.ndarray:
+    """Rows ``rows`` (distinct, in any order) of a dataset, and its first ``columns`` columns."""
+    where = np.argsort(rows)
+    picked = dataset[rows[where]] if dataset.ndim == 1 else dataset[rows[where], : columns or dataset.shape[1]]
+    block = np.empty(picked.shape, dtype=dataset.dtype)
+    block[where] = picked
+    return block
+
+
+def _ragged_order(counts: np.ndarray, order: np.ndarray) -> np.ndarray:
+    """The history rows in the new case order: case ``order[i]``'s rows (``counts`` of each old case,
+    stored contiguously in the old order) come i-th."""
+    counts = counts.astype(np.int64)
+    starts = np.cumsum(counts) - counts
+    lengths = counts[order]
+    return np.repeat(starts[order] - (np.cumsum(lengths) - lengths), lengths) + np.arange(lengths.sum())
 
 
 def _widen(table: dict[str, Var], name: str, kind: Kind | None, dims: tuple[str, ...], attrs: dict) -> None:
@@ -625,11 +734,11 @@ def _nbytes(payload) -> int:
 
 
 def _layout(var: Var, plan: dict) -> tuple[tuple, tuple | None]:
-    """Shape and chunk shape of a variable (None: contiguous, for the (node) variables and
+    """Capacity shape and chunk shape of a variable (None: contiguous, for the (node) variables and
     for files of a fixed number of cases, such as one ``rollc solve`` result)."""
     sizes = {"case": plan["case_cap"], "node": plan["node_cap"], "row": plan["hist_cap"]}
     shape = tuple(sizes[d] for d in var.dims)
-    if var.dims == ("node",) or plan.get("fixed"):
+    if var.dims == ("node",) or (plan.get("fixed") and _extent(var, plan) == shape):
         return shape, None
     if var.dims == ("case", "node"):
         rows = max(1, min(CHUNK_BYTES // max(1, plan["node_cap"] * var.kind.dtype.itemsize), max(shape[0], 1)))
@@ -638,13 +747,22 @@ def _layout(var: Var, plan: dict) -> tuple[tuple, tuple | None]:
     return shape, (max(1, min(rows, shape[0])),)
 
 
+def _extent(var: Var, plan: dict) -> tuple:
+    """The shape a variable has in the file: its ``case`` and ``row`` dimensions as long as the
+    committed rows (plain netCDF readers see no padding rows), the ``node`` one the capacity."""
+    sizes = {"case": plan["case_rows"], "node": plan["node_cap"], "row": plan["hist_rows"]}
+    return tuple(sizes[d] for d in var.dims)
+
+
 def _dataset(group, name: str, var: Var, plan: dict):
-    """Create one variable: chunked with its chunks allocated now (so appends never allocate), fill set."""
-    shape, chunks = _layout(var, plan)
-    maxshape = tuple(None if d in ("case", "row") else s for d, s in zip(var.dims, shape, strict=True))
+    """Create one variable: chunked (its chunks sized for the capacity, those within the committed
+    rows allocated now), fill set; its shape is :func:`_extent`."""
+    capacity, chunks = _layout(var, plan)
+    shape = _extent(var, plan)
+    maxshape = tuple(None if d in ("case", "row") else s for d, s in zip(var.dims, capacity, strict=True))
     dcpl = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
     dcpl.set_alloc_time(h5py.h5d.ALLOC_TIME_EARLY)
-    if plan.get("copied"):
+    if plan.get("copied") and var.kind.name != "str":  # HDF5 fills variable-length data always
         dcpl.set_fill_time(h5py.h5d.FILL_TIME_NEVER)
     if chunks is None and var.kind.dtype.kind in "iuf":
         ds = _contiguous(group, name, shape, var.kind.dtype, var.kind.fill, dcpl)
@@ -655,15 +773,13 @@ def _dataset(group, name: str, var: Var, plan: dict):
             maxshape=maxshape if chunks else None,
             chunks=chunks,
             dtype=var.kind.dtype,
-            fillvalue=var.kind.fill,
+            fillvalue=None if var.kind.name == "str" else var.kind.fill,  # text: netCDF-C's own (NULL, read as "")
             dcpl=dcpl,
             track_times=False,
         )
     attrs = dict(var.attrs)
     if var.kind.name == "bool":
         attrs.update(dtype="bool", flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
-    elif var.kind.name == "str":
-        attrs["_Encoding"] = "utf-8"
     elif name == "state":
         from .result import STATE_NAMES
 
