@@ -62,46 +62,6 @@ SCALARS = {
     **{name: (q.long_name, q.unit) for name, q in QUANTITIES.items() if q.kind != "array"},
     "nodes": ("contact nodes of the case (per-node variables are padded beyond)", "1"),
     "history_rows": ("rows of the case in group convergence", "1"),
-    "title": ("title of the case", None),
-    "bodies": ("kinds of the bodies A and B", None),
-    "effects": ("why each effect was simulated or skipped (JSON)", None),
-    "effects_line": ("why each effect was simulated or skipped, one line", None),
-    "influence": ("influence model of the solve", None),
-    "linear_solver": ("linear solver of the Newton steps", None),
-    "start": ("start of the solve: warm (from the previous case) or cold", None),
-    "start_traction": ("tangential traction of a warm start: the neighbours' or the closed form's", None),
-    "strategies": ("solver strategies run, in order", None),
-    "tolerance_applied": ("residual tolerance the solve applied (the round-off floor where larger)", "1"),
-    "iterations_total": ("Newton iterations over all mesh levels", "1"),
-    "time_total_solve": ("wall time of the solve over all mesh levels", "s"),
-    "frictional_power_total": ("frictional power per unit rolling speed, sum w (-p_t s_t)", "force/length"),
-    "half_space_ratio": ("a/R of the most curved body (half-space validity)", "1"),
-    "validity_warning": ("why the half-space model does not describe the bodies (empty when it does)", None),
-    "unit_length": ("the case's length unit", None),
-    "unit_stress": ("the case's stress unit", None),
-    "unit_line_force": ("the case's force per length unit", None),
-    "adaptive_tolerance": ("requested traction error / (mu p0)", "1"),
-    "adaptive_estimate": ("estimated traction error / (mu p0) of the final mesh", "1"),
-    "adaptive_met": ("the estimate meets the requested tolerance", None),
-    "adaptive_refinements": ("mesh refinements after the first mesh", "1"),
-    "adaptive_method": ("adaptive mesh method", None),
-    "adaptive_note": ("how the adaptive loop ended", None),
-    "adaptive_creep_change": ("relative change of the creepage at the last refinement", "1"),
-    "adaptive_history": ("estimates and meshes of the adaptive loop (JSON)", None),
-    "element_order": ("order of the contact elements", "1"),
-    "error_estimate": ("estimated traction error / (mu p0)", "1"),
-    "stress_bodies": ("bodies whose subsurface stresses were computed", None),
-    "stress_length_scale": ("length scale a of the stress maxima's positions", "length"),
-    "stress_pressure_scale": ("peak contact pressure p0 = max(-p_n)", "stress"),
-    "time_stresses": ("wall time of the subsurface stresses", "s"),
-}
-
-#: Per-case maxima of the stress indicators (rolling_cli.stresses.report): suffix -> (long name, unit key).
-STRESS_MAXIMA = {
-    "": ("largest {} over the bodies", "stress"),
-    "_x_over_a": ("x/a of the largest {}", "1"),
-    "_z_over_a": ("z/a (depth) of the largest {}", "1"),
-    "_body": ("body of the largest {}", None),
 }
 
 #: Per-node fields: name -> (long name, unit key). Result.DATASETS adds to these.
@@ -290,13 +250,7 @@ def swept(key: str, units: dict[str, str], text: bool) -> dict:
 def describe(name: str, table: dict, units: dict[str, str]) -> dict:
     """``long_name`` and ``units`` attributes of a known variable (none for unknown ones)."""
     if name not in table:
-        found = re.fullmatch(r"stress_max_(\w+?)(|_x_over_a|_z_over_a|_body)", name) if table is SCALARS else None
-        if found is None:
-            return {}
-        text, unit_key = STRESS_MAXIMA[found.group(2)]
-        long_name = text.format(found.group(1).replace("_", " "))
-        unit = units_of(unit_key, units)
-        return {"long_name": long_name, **({"units": unit} if unit else {})}
+        return {}
     long_name, unit_key = table[name]
     unit = units_of(unit_key, units)
     return {"long_name": long_name, **({"units": unit} if unit else {})}

@@ -71,7 +71,12 @@ def files(tmp_path_factory) -> dict:
         "result": ("solve", write_case(folder, SMALL, "r.toml")),
         "sweep": ("sweep", write_case(folder, SMALL, "s.toml")),
         "stresses": ("solve", write_case(folder, stresses, "t.toml")),
-        "stresses_sweep": ("sweep", write_case(folder, stresses, "u.toml"), "--set", "tangential.q_over_mu_p=0.2,1.2"),
+        # the cases with one Newton iteration (from a cold start) fail in the run: text messages
+        "stresses_sweep": (
+            "sweep",
+            write_case(folder, stresses, "u.toml"),
+            *("--set", "tangential.q_over_mu_p=0.2,0.5", "--set", "solver.max_iterations=100,1"),
+        ),
         "adaptive": ("solve", write_case(folder, adaptive, "a.toml")),
     }
     out = {}
@@ -79,9 +84,9 @@ def files(tmp_path_factory) -> dict:
         path = folder / f"{name}.h5"
         # mu the fastest key: the third case of each load warm-starts (its variables: start_traction)
         keys = ("--set", "normal.load=900,1812.5", "--set", "friction.mu=0.1,0.2,0.3")
-        extra = (*keys, "--workers", 1) if name == "sweep" else ("--workers", 1)
+        extra = (*keys, "--workers", 1) if name == "sweep" else ("--workers", 1, "--no-warm-start")
         run = run_cli("-q", command, *args, *(extra if command == "sweep" else ()), "-o", path)
-        assert run.exit_code in (0, 1), run.output  # 1: the stresses sweep's gross-sliding case failed
+        assert run.exit_code in (0, 1), run.output  # 1: cases of the stresses sweep failed
         out[name] = path
     return out
 
@@ -148,7 +153,9 @@ def test_text_reads_back_the_same_in_netcdf_c(files):
     path = str(files["stresses_sweep"])
     with h5py.File(path) as handle:
         messages = [m.decode() for m in handle["message"][()]]
-    assert messages[0] == "" and "gross sliding" in messages[1]
+    failed = [m for m in messages if m]
+    assert len(failed) == 2 and all(m.startswith("sweep case (") and "solver.max_iterations = 1" in m for m in failed)
+    assert messages.count("") == 2
     script = "import json, sys, netCDF4; print(json.dumps(list(netCDF4.Dataset(sys.argv[1])['message'][:])))"
     done = _crash_free([sys.executable, "-c", script, path], "netCDF4 reading the messages")
     assert json.loads(done.stdout) == messages
