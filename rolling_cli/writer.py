@@ -26,7 +26,6 @@ own ``string`` type (netCDF-C aborts on fixed-length HDF5 strings).
 from __future__ import annotations
 
 import contextlib
-import functools
 import itertools
 import json
 import math
@@ -355,15 +354,17 @@ class ResultFile:
         for name, arrays in batch.arrays.items():
             present = [a for a in arrays if a is not None]
             node_cap = max(node_cap, *(a.size for a in present))
-            dims = ("case", "node")
+            dims: tuple[str, ...] = ("case", "node")
             if name in GRID and (name not in schema or schema[name].dims == ("node",)):
                 shared = grid.setdefault(name, present[0])
                 if all(a.shape == shared.shape and np.array_equal(a, shared) for a in present):
                     dims = ("node",)
                 else:
                     del grid[name]
-            kind = functools.reduce(merge, (dtype_kind(dtype) for dtype in {a.dtype for a in present}))
-            _widen(schema, name, kind, dims, describe(name, node_meta, self.units))
+            node_kind: Kind | None = None
+            for dtype in {a.dtype for a in present}:
+                node_kind = merge(node_kind, dtype_kind(dtype))
+            _widen(schema, name, node_kind, dims, describe(name, node_meta, self.units))
         for name, values in batch.history.items():
             _widen(history, name, column_kind(values), ("row",), describe(name, HISTORY, self.units))
         need_rows = self.done + len(rows)
@@ -709,7 +710,7 @@ def _widen(table: dict[str, Var], name: str, kind: Kind | None, dims: tuple[str,
         if kind is not None:
             table[name] = Var(dims, kind, attrs)
         return
-    new = merge(old.kind, kind)
+    new = merge(old.kind, kind) or old.kind
     if new != old.kind or dims != old.dims:
         table[name] = Var(dims, new, old.attrs)
 

@@ -115,7 +115,7 @@ def _halfplane(case, the_plan, p_n, p_t, labels) -> dict:
     signs = [1.0 if label == "A" else -1.0 for label in labels]  # B carries -p_t
     x, z = field_grid(case, the_plan, labels[0])  # the same grid for every half-plane body
     fields = halfplane.both_signs(grid, p_n, p_t, x[None, :], z[:, None], signs)
-    surfaces = halfplane.both_signs(grid, p_n, p_t, grid.x, 0.0, signs)
+    surfaces = halfplane.both_signs(grid, p_n, p_t, grid.x, np.zeros(1), signs)
     return {
         label: ({"x": x, "z": z, "surface_x": grid.x, "surface_sigma_xx": surface[0]}, field)
         for label, field, surface in zip(labels, fields, surfaces, strict=True)

@@ -83,7 +83,7 @@ def maxima(stresses) -> dict:
             iz, ix = np.unravel_index(np.argmax(values), values.shape)
             found = (values[iz, ix], arrays["x"][ix], arrays["z"][iz])
         elif how == "depth":
-            iz = int(np.argmax(values))
+            iz = np.argmax(values)
             found = (values[iz], math.nan, arrays["z"][iz])
         elif how == "surface":
             i = int(np.argmax(values))
