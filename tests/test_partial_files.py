@@ -115,7 +115,7 @@ def test_rows_end_in_sweep_order_after_a_resume(tmp_path):
 
     def row(i):
         history = [{**entry, "residual": float(i)} for entry in result.history]  # each case's own marker
-        base = row_from_result(result, i, {"friction.mu": 0.1 + 0.01 * i}, label=f"case {i}")
+        base = row_from_result(result, i, {"friction.mu": 0.1 + 0.01 * i}, title=f"case {i}")
         return Row(i, base.coords, base.scalars, base.arrays, history, base.extras, base.units)
 
     attrs = {**ATTRS, "sweep_keys": json.dumps(["friction.mu"]), "cases_total": 7}  # what --resume reads back
@@ -133,11 +133,11 @@ def test_rows_end_in_sweep_order_after_a_resume(tmp_path):
         xr.open_dataset(path, engine="h5netcdf") as ds,
         xr.open_dataset(path, engine="h5netcdf", group="convergence") as c,
     ):
-        assert list(ds.label.values) == [f"case {i}" for i in range(7)]
+        assert list(ds.title.values) == [f"case {i}" for i in range(7)]
         assert np.allclose(ds.friction_mu.values, 0.1 + 0.01 * np.arange(7))
         assert list(c.residual.values) == [float(k) for k in range(7) for _ in range(n)]
         assert np.array_equal(ds.p_t.values, np.tile(result.p_t, (7, 1)))
-    assert rolling_read(path, 4).attributes["label"] == "case 4"
+    assert rolling_read(path, 4).title == "case 4"
 
 
 def rolling_read(path, row):
