@@ -35,12 +35,11 @@ from dataclasses import dataclass
 import h5py
 import numpy as np
 
-from . import outputs
+from . import outputs, storage
 from .layout import (
     CONVENTIONS,
     CONVERGENCE,
     GRID,
-    GROUP_UNITS,
     HISTORY,
     INDEXES,
     NODE_FIELDS,
@@ -54,7 +53,6 @@ from .layout import (
     encode,
     merge,
     swept,
-    units_of,
 )
 from .outputs import WriteError
 from .reader import plain
@@ -62,18 +60,14 @@ from .rows import GROUP_HOOKS, Row
 
 #: HDF5 format bounds: the oldest objects that do the job (netCDF-4 reads them), 1.8 features allowed.
 LIBVER = ("earliest", "v108")
-#: Bytes per chunk of the (case, node) variables; (case) variables take CHUNK_ROWS rows.
-CHUNK_BYTES = 1 << 16
-CHUNK_ROWS = 1024
 #: The first capacity of a file: the rows that fit in PREALLOCATE bytes, at least FIRST_ROWS (or its
 #: total, when smaller); then GROWTH times more at each rebuild. Rebuilds stay few and their copies
 #: proportional to the file.
 FIRST_ROWS = 256
 PREALLOCATE = 1 << 28
 GROWTH = 4
-#: Bytes per block when a rebuild copies rows, and rows per block when it turns a shared grid into
-#: a per-case one (they bound its memory).
-COPY_BYTES = 1 << 22
+#: Rows per block when a rebuild turns a shared grid into a per-case one (they bound its memory;
+#: row copies use :data:`rolling_cli.storage.COPY_BYTES`).
 BLOCK_ROWS = 4096
 _INTERNAL = {"DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"}
 
@@ -206,7 +200,7 @@ class ResultFile:
                     self.grid[name] = handle[name][()]
             self.extras = {name for name in GROUP_HOOKS if name in handle}
             self.units = self._read_units(handle)
-            fixed_text = any(isinstance(o, h5py.Dataset) and o.dtype.kind == "S" for o in _datasets(handle))
+            fixed_text = any(isinstance(o, h5py.Dataset) and o.dtype.kind == "S" for o in storage.datasets(handle))
         described = self._describe_all()
         self.restructure = fixed_text or described  # an older file: the next commit rebuilds it
         return self
@@ -320,7 +314,7 @@ class ResultFile:
         if not self.exists or self.done < 2:
             return None
         with h5py.File(self.path, "r") as handle:
-            cases = _get(handle, "case", 0, self.done)
+            cases = storage.get(handle, "case", 0, self.done)
         return None if np.all(np.diff(cases) > 0) else np.argsort(cases, kind="stable")
 
     # ----------------------------------------------------------------- planning
@@ -347,9 +341,9 @@ class ResultFile:
         for key, values in batch.coords.items():
             kind = column_kind(values)
             attrs = swept(key, self.units, text=kind is not None and kind.name == "str")
-            _widen(schema, coordinate_name(key), kind, ("case",), attrs)
+            storage.widen(schema, coordinate_name(key), kind, ("case",), attrs)
         for name, values in batch.scalars.items():
-            _widen(schema, name, column_kind(values), ("case",), describe(name, SCALARS, self.units))
+            storage.widen(schema, name, column_kind(values), ("case",), describe(name, SCALARS, self.units))
         node_meta = _node_meta()
         for name, arrays in batch.arrays.items():
             present = [a for a in arrays if a is not None]
@@ -364,9 +358,9 @@ class ResultFile:
             node_kind: Kind | None = None
             for dtype in {a.dtype for a in present}:
                 node_kind = merge(node_kind, dtype_kind(dtype))
-            _widen(schema, name, node_kind, dims, describe(name, node_meta, self.units))
+            storage.widen(schema, name, node_kind, dims, describe(name, node_meta, self.units))
         for name, values in batch.history.items():
-            _widen(history, name, column_kind(values), ("row",), describe(name, HISTORY, self.units))
+            storage.widen(history, name, column_kind(values), ("row",), describe(name, HISTORY, self.units))
         need_rows = self.done + len(rows)
         need_hist = self.hist_done + len(batch.history_cases)
         extras = self.extras | {name for r in rows for name in r.extras}
@@ -418,7 +412,7 @@ class ResultFile:
         rows = batch.rows
         try:
             with h5py.File(self.path, "r+", libver=LIBVER) as handle:
-                _extend(
+                storage.extend(
                     handle, self.schema, self.history, self.done + len(rows), self.hist_done + len(batch.history_cases)
                 )
                 self._write_rows(handle, batch, self.schema, self.history, self.node_cap)
@@ -446,7 +440,7 @@ class ResultFile:
         }
         tmp = outputs.new_temp(self.path)
         with self._undone(tmp):
-            _skeleton(tmp)
+            storage.skeleton(tmp)
             outputs.preallocate(tmp, self._estimate(plan, rows))
         with self._undone(tmp, fatal=True), h5py.File(tmp, "r+", libver=LIBVER) as new:
             self._create(new, plan)
@@ -497,12 +491,12 @@ class ResultFile:
         total += datasets * (1 << 12)  # object header, chunk index, attributes: ~1-3 kB measured
         if plan["extras"] and self.exists:
             total += os.path.getsize(self.path)
-        total += sum(sum(_nbytes(p) for p in r.extras.values()) for r in rows)
+        total += sum(sum(storage.nbytes(p) for p in r.extras.values()) for r in rows)
         return int(total * 1.25)
 
     @staticmethod
     def _storage(var: Var, plan: dict) -> int:
-        shape, chunks = _layout(var, plan)
+        shape, chunks = storage.chunk_layout(var, plan)
         if chunks is None:
             return int(np.prod(shape)) * var.kind.dtype.itemsize
         count = 1
@@ -513,69 +507,75 @@ class ResultFile:
     def _create(self, handle, plan: dict) -> None:
         """Every dimension, coordinate and variable of ``plan``, its space allocated and filled."""
         root = {**self.attrs, "Conventions": CONVENTIONS}
-        _set_attrs(handle, {k: np.int8(v) if isinstance(v, bool) else v for k, v in root.items() if v is not None})
-        case = _dataset(handle, "case", Var(("case",), Kind("i8"), _index("case")), plan)
+        storage.set_attrs(
+            handle, {k: np.int8(v) if isinstance(v, bool) else v for k, v in root.items() if v is not None}
+        )
+        case = storage.dataset(handle, "case", Var(("case",), Kind("i8"), _index("case")), plan)
         case.make_scale("case")
-        _set_attrs(case, {"_Netcdf4Dimid": np.int32(0), "_Netcdf4Coordinates": np.array([0], dtype=np.int32)})
-        node = _dataset(handle, "node", Var(("node",), Kind("i8"), _index("node")), plan)
+        storage.set_attrs(case, {"_Netcdf4Dimid": np.int32(0), "_Netcdf4Coordinates": np.array([0], dtype=np.int32)})
+        node = storage.dataset(handle, "node", Var(("node",), Kind("i8"), _index("node")), plan)
         node[:] = np.arange(plan["node_cap"])
         node.make_scale("node")
-        _set_attrs(node, {"_Netcdf4Dimid": np.int32(1), "_Netcdf4Coordinates": np.array([1], dtype=np.int32)})
+        storage.set_attrs(node, {"_Netcdf4Dimid": np.int32(1), "_Netcdf4Coordinates": np.array([1], dtype=np.int32)})
         scales = {"case": case, "node": node}
         coords = [coordinate_name(k) for k in self.keys if coordinate_name(k) in plan["schema"]]
         for name, var in plan["schema"].items():
-            ds = _dataset(handle, name, var, plan)
-            _attach(ds, var.dims, scales)
+            ds = storage.dataset(handle, name, var, plan)
+            storage.attach(ds, var.dims, scales)
             if name not in coords:
                 extra = ["x"] if "node" in var.dims and name != "x" and "x" in plan["schema"] else []
                 if coords or extra:
-                    _set_attrs(ds, {"coordinates": " ".join(coords + extra)})
+                    storage.set_attrs(ds, {"coordinates": " ".join(coords + extra)})
             if name in plan["grid"]:
                 ds[: plan["grid"][name].size] = plan["grid"][name]
         group = handle.create_group(CONVERGENCE, track_order=True)
-        _set_attrs(group, {"long_name": "Newton histories: a CF indexed ragged array, one row per iteration"})
-        iteration = _dataset(group, "row", Var(("row",), Kind("i8"), _index("row")), plan)
+        storage.set_attrs(group, {"long_name": "Newton histories: a CF indexed ragged array, one row per iteration"})
+        iteration = storage.dataset(group, "row", Var(("row",), Kind("i8"), _index("row")), plan)
         iteration[:] = np.arange(plan["hist_rows"])
         iteration.make_scale("row")
-        _set_attrs(iteration, {"_Netcdf4Dimid": np.int32(2), "_Netcdf4Coordinates": np.array([2], dtype=np.int32)})
+        storage.set_attrs(
+            iteration, {"_Netcdf4Dimid": np.int32(2), "_Netcdf4Coordinates": np.array([2], dtype=np.int32)}
+        )
         scales["row"] = iteration
         index_var = Var(("row",), Kind("i8"), {**_index("case_index"), "instance_dimension": "case"})
-        ds = _dataset(group, "case_index", index_var, plan)
-        _attach(ds, ("row",), scales)
+        ds = storage.dataset(group, "case_index", index_var, plan)
+        storage.attach(ds, ("row",), scales)
         for name, var in plan["history"].items():
-            _attach(_dataset(group, name, var, plan), ("row",), scales)
+            storage.attach(storage.dataset(group, name, var, plan), ("row",), scales)
 
     def _copy(self, old, new, plan: dict) -> None:
         """The committed rows of ``old`` into ``new``, block by block (kinds widened, grids broadcast)."""
         n, m = self.done, self.hist_done
         order = plan.get("order")  # new row i is old row order[i] (None: the same order)
-        solved = _get(old, "nodes", 0, n) > 0 if "nodes" in old else np.ones(n, dtype=bool)
-        _copy_rows(old, new, "case", n, plan["node_cap"], order=order)
+        solved = storage.get(old, "nodes", 0, n) > 0 if "nodes" in old else np.ones(n, dtype=bool)
+        storage.copy_rows(old, new, "case", n, plan["node_cap"], order=order)
         for name, var in self.schema.items():
             target = plan["schema"][name]
             if target.dims == ("node",):
                 continue
             if var.dims == ("node",):  # a shared grid that is per case from now on
-                grid = _get(old, name, 0, self.node_cap)
+                grid = storage.get(old, name, 0, self.node_cap)
                 for start in range(0, n, BLOCK_ROWS):
                     stop = min(n, start + BLOCK_ROWS)
                     block = np.full((stop - start, plan["node_cap"]), target.kind.fill, dtype=target.kind.dtype)
                     block[solved[start:stop], : self.node_cap] = grid
-                    _put(new, name, start, block)
+                    storage.put(new, name, start, block)
             else:
-                _copy_rows(old, new, name, n, self.node_cap, target.kind.dtype, order)
+                storage.copy_rows(old, new, name, n, self.node_cap, target.kind.dtype, order)
         group, source = new[CONVERGENCE], old[CONVERGENCE]
-        history_order = None if order is None or not m else _ragged_order(_get(old, "history_rows", 0, n), order)
+        history_order = (
+            None if order is None or not m else storage.ragged_order(storage.get(old, "history_rows", 0, n), order)
+        )
         for name in ("case_index", *self.history):
             dtype = plan["history"][name].kind.dtype if name in plan["history"] else None
-            _copy_rows(source, group, name, m, 0, dtype, history_order)
+            storage.copy_rows(source, group, name, m, 0, dtype, history_order)
         for name in self.extras:  # through the group's own hook: an HDF5 copy across files breaks the
             hook = GROUP_HOOKS[name]  # object references of dimension scales inside the group
             target = new.require_group(name)
             for key, source in old[name].items():
                 if old[name].get(key, getlink=True).__class__ is h5py.SoftLink:
                     continue  # a single result's links are made again below
-                _write_group(target.create_group(key), name, hook.read(source), self.units)
+                storage.write_group(target.create_group(key), name, hook.read(source), self.units)
             if self.total == 1:
                 for key in list(target):
                     for sub in target[key] if key.startswith("case_") else ():
@@ -587,7 +587,7 @@ class ResultFile:
         if not rows:
             return
         start = self.done
-        _put(handle, "case", start, np.array([r.index for r in rows], dtype=np.int64))
+        storage.put(handle, "case", start, np.array([r.index for r in rows], dtype=np.int64))
         by_name = {coordinate_name(k): k for k in self.keys}
         for name, var in schema.items():
             if var.dims == ("node",):
@@ -595,276 +595,26 @@ class ResultFile:
             if var.dims == ("case",):
                 values = batch.coords[by_name[name]] if name in by_name else batch.scalars.get(name)
                 if values is not None:
-                    _put(handle, name, start, _values(var.kind, values))
+                    storage.put(handle, name, start, _values(var.kind, values))
             elif name in batch.arrays:
                 block = np.full((len(rows), node_cap), var.kind.fill, dtype=var.kind.dtype)
                 for i, array in enumerate(batch.arrays[name]):
                     if array is not None:
                         block[i, : array.size] = array
-                _put(handle, name, start, block)
+                storage.put(handle, name, start, block)
         if batch.history_cases:
             group = handle[CONVERGENCE]
             lo = self.hist_done
-            _put(group, "row", lo, np.arange(lo, lo + len(batch.history_cases), dtype=np.int64))
-            _put(group, "case_index", lo, np.array(batch.history_cases, dtype=np.int64))
+            storage.put(group, "row", lo, np.arange(lo, lo + len(batch.history_cases), dtype=np.int64))
+            storage.put(group, "case_index", lo, np.array(batch.history_cases, dtype=np.int64))
             for name, values in batch.history.items():
-                _put(group, name, lo, _values(history[name].kind, values))
+                storage.put(group, name, lo, _values(history[name].kind, values))
 
     def _write_extras(self, handle, rows: list[Row]) -> None:
         for row in rows:
             for name, payload in row.extras.items():
                 group = handle.require_group(name).create_group(f"case_{row.index:06d}")
-                _write_group(group, name, payload, self.units)
+                storage.write_group(group, name, payload, self.units)
                 if self.total == 1:  # a single result: its subgroups also at /<name>/<sub> (e.g. stresses/A)
                     for sub in group:
                         handle[name][sub] = h5py.SoftLink(f"/{name}/case_{row.index:06d}/{sub}")
-
-
-def _extend(handle, schema: dict, history: dict, rows: int, history_rows: int) -> None:
-    """Every (case) and (case, node) variable ``rows`` long, every variable of the histories
-    ``history_rows`` long: the file shows plain netCDF readers the committed rows only."""
-    names = ["case", *(name for name, var in schema.items() if var.dims[0] == "case")]
-    group = handle[CONVERGENCE]
-    for parent, targets, length in ((handle, names, rows), (group, ["row", "case_index", *history], history_rows)):
-        for name in targets:
-            dataset = h5py.h5d.open(parent.id, name.encode())
-            if dataset.shape[0] != length:
-                dataset.set_extent((length, *dataset.shape[1:]))
-
-
-def _write_group(group, name: str, payload, units: dict[str, str]) -> None:
-    """An extra group through its hook; its variables that have no units get those of
-    :data:`~rolling_cli.layout.GROUP_UNITS` (the hooks do not know the case's units)."""
-    GROUP_HOOKS[name].write(group, payload)
-    for ds in _datasets(group):
-        key = GROUP_UNITS.get(ds.name.rsplit("/", 1)[-1])
-        if key and "units" not in ds.attrs:
-            ds.attrs["units"] = units_of(key, units)
-
-
-def _datasets(group) -> list:
-    """The datasets of ``group`` and of its subgroups."""
-    found: list = []
-    group.visititems(lambda _, obj: found.append(obj) if isinstance(obj, h5py.Dataset) else None)
-    return found
-
-
-def _put(group, name: str, start: int, values: np.ndarray) -> None:
-    """Write ``values`` into rows ``start``.. (all columns from the first) of a dataset: one HDF5 call."""
-    if values.shape[0] == 0:
-        return
-    dataset = h5py.h5d.open(group.id, name.encode())
-    space = dataset.get_space()
-    space.select_hyperslab((start,) + (0,) * (values.ndim - 1), values.shape)
-    dataset.write(h5py.h5s.create_simple(values.shape), space, np.ascontiguousarray(values))
-
-
-def _get(group, name: str, start: int, stop: int, columns: int | None = None) -> np.ndarray:
-    """Rows ``start:stop`` (and the first ``columns`` columns) of a dataset: one HDF5 call."""
-    dataset = h5py.h5d.open(group.id, name.encode())
-    space = dataset.get_space()
-    shape = (stop - start, *((columns,) if space.shape[1:] and columns is not None else space.shape[1:]))
-    out = np.empty(shape, dtype=dataset.dtype)
-    if shape[0] and all(shape):
-        space.select_hyperslab((start,) + (0,) * (len(shape) - 1), shape)
-        dataset.read(h5py.h5s.create_simple(shape), space, out)
-    return out
-
-
-def _copy_rows(old, new, name: str, n: int, columns: int, dtype=None, order: np.ndarray | None = None) -> None:
-    """The first ``n`` rows (and ``columns`` columns) of a dataset of ``old`` into ``new``, in blocks of
-    :data:`COPY_BYTES` (the memory of a rebuild does not grow with the file); with ``order``, row i
-    of ``new`` is row ``order[i]`` of ``old``."""
-    row_bytes = max(1, columns) * 16
-    step = max(1, COPY_BYTES // row_bytes)
-    for start in range(0, n, step):
-        if order is None:
-            block = _get(old, name, start, min(n, start + step), columns or None)
-        else:
-            block = _gather(old[name], order[start : start + step], columns or None)
-        _put(new, name, start, block if dtype is None or block.dtype == dtype else block.astype(dtype))
-
-
-def _gather(dataset, rows: np.ndarray, columns: int | None) -> np.ndarray:
-    """Rows ``rows`` (distinct, in any order) of a dataset, and its first ``columns`` columns."""
-    where = np.argsort(rows)
-    picked = dataset[rows[where]] if dataset.ndim == 1 else dataset[rows[where], : columns or dataset.shape[1]]
-    block = np.empty(picked.shape, dtype=dataset.dtype)
-    block[where] = picked
-    return block
-
-
-def _ragged_order(counts: np.ndarray, order: np.ndarray) -> np.ndarray:
-    """The history rows in the new case order: case ``order[i]``'s rows (``counts`` of each old case,
-    stored contiguously in the old order) come i-th."""
-    counts = counts.astype(np.int64)
-    starts = np.cumsum(counts) - counts
-    lengths = counts[order]
-    return np.repeat(starts[order] - (np.cumsum(lengths) - lengths), lengths) + np.arange(lengths.sum())
-
-
-def _widen(table: dict[str, Var], name: str, kind: Kind | None, dims: tuple[str, ...], attrs: dict) -> None:
-    """Make ``table[name]`` hold values of ``kind`` with ``dims`` (a new Var only when something changes)."""
-    old = table.get(name)
-    if old is None:
-        if kind is not None:
-            table[name] = Var(dims, kind, attrs)
-        return
-    new = merge(old.kind, kind) or old.kind
-    if new != old.kind or dims != old.dims:
-        table[name] = Var(dims, new, old.attrs)
-
-
-def _skeleton(path: str) -> None:
-    """An empty HDF5 file: creation order tracked (as netCDF-4 does), small chunk-index nodes."""
-    fcpl = h5py.h5p.create(h5py.h5p.FILE_CREATE)
-    order = h5py.h5p.CRT_ORDER_TRACKED | h5py.h5p.CRT_ORDER_INDEXED
-    fcpl.set_link_creation_order(order)
-    fcpl.set_attr_creation_order(order)
-    fapl = h5py.h5p.create(h5py.h5p.FILE_ACCESS)
-    fapl.set_libver_bounds(h5py.h5f.LIBVER_EARLIEST, h5py.h5f.LIBVER_V18)
-    h5py.h5f.create(os.fsencode(path), h5py.h5f.ACC_TRUNC, fcpl=fcpl, fapl=fapl).close()
-
-
-def _nbytes(payload) -> int:
-    if isinstance(payload, np.ndarray):
-        return payload.nbytes
-    if isinstance(payload, dict):
-        return sum(_nbytes(v) for v in payload.values())
-    return 1 << 12
-
-
-def _layout(var: Var, plan: dict) -> tuple[tuple, tuple | None]:
-    """Capacity shape and chunk shape of a variable (None: contiguous, for the (node) variables and
-    for files of a fixed number of cases, such as one ``rollc solve`` result)."""
-    sizes = {"case": plan["case_cap"], "node": plan["node_cap"], "row": plan["hist_cap"]}
-    shape = tuple(sizes[d] for d in var.dims)
-    if var.dims == ("node",) or (plan.get("fixed") and _extent(var, plan) == shape):
-        return shape, None
-    if var.dims == ("case", "node"):
-        rows = max(1, min(CHUNK_BYTES // max(1, plan["node_cap"] * var.kind.dtype.itemsize), max(shape[0], 1)))
-        return shape, (rows, max(1, plan["node_cap"]))
-    rows = CHUNK_ROWS * (16 if var.dims == ("row",) else 1)
-    return shape, (max(1, min(rows, shape[0])),)
-
-
-def _extent(var: Var, plan: dict) -> tuple:
-    """The shape a variable has in the file: its ``case`` and ``row`` dimensions as long as the
-    committed rows (plain netCDF readers see no padding rows), the ``node`` one the capacity."""
-    sizes = {"case": plan["case_rows"], "node": plan["node_cap"], "row": plan["hist_rows"]}
-    return tuple(sizes[d] for d in var.dims)
-
-
-def _dataset(group, name: str, var: Var, plan: dict):
-    """Create one variable: chunked (its chunks sized for the capacity, those within the committed
-    rows allocated now), fill set; its shape is :func:`_extent`."""
-    capacity, chunks = _layout(var, plan)
-    shape = _extent(var, plan)
-    maxshape = tuple(None if d in ("case", "row") else s for d, s in zip(var.dims, capacity, strict=True))
-    dcpl = h5py.h5p.create(h5py.h5p.DATASET_CREATE)
-    dcpl.set_alloc_time(h5py.h5d.ALLOC_TIME_EARLY)
-    if plan.get("copied") and var.kind.name != "str":  # HDF5 fills variable-length data always
-        dcpl.set_fill_time(h5py.h5d.FILL_TIME_NEVER)
-    if chunks is None and var.kind.dtype.kind in "iuf":
-        ds = _contiguous(group, name, shape, var.kind.dtype, var.kind.fill, dcpl)
-    else:
-        ds = group.create_dataset(
-            name,
-            shape=shape,
-            maxshape=maxshape if chunks else None,
-            chunks=chunks,
-            dtype=var.kind.dtype,
-            fillvalue=None if var.kind.name == "str" else var.kind.fill,  # text: netCDF-C's own (NULL, read as "")
-            dcpl=dcpl,
-            track_times=False,
-        )
-    attrs = dict(var.attrs)
-    if var.kind.name == "bool":
-        attrs.update(dtype="bool", flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
-    elif name == "state":
-        from .result import STATE_NAMES
-
-        attrs["flag_values"] = np.array(sorted(STATE_NAMES), dtype=np.int8)
-        attrs["flag_meanings"] = " ".join(STATE_NAMES[k] for k in sorted(STATE_NAMES))
-        attrs["valid_range"] = np.array([min(STATE_NAMES), max(STATE_NAMES)], dtype=np.int8)
-    _set_attrs(ds, attrs)
-    return ds
-
-
-def _attach(ds, dims: tuple[str, ...], scales: dict) -> None:
-    ids = {"case": 0, "node": 1, "row": 2}
-    for axis, dim in enumerate(dims):
-        ds.dims[axis].attach_scale(scales[dim])
-    _set_attrs(ds, {"_Netcdf4Coordinates": np.array([ids[d] for d in dims], dtype=np.int32)})
-
-
-#: HDF5 types of the numeric datasets, per dtype (what ``create_dataset`` derives for each anew).
-_DATASET_TYPES: dict = {}
-
-
-def _contiguous(group, name: str, shape: tuple, dtype: np.dtype, fill, dcpl) -> h5py.Dataset:
-    """A contiguous numeric dataset, as ``group.create_dataset(name, shape=shape, dtype=dtype,
-    fillvalue=fill, dcpl=dcpl, track_times=False)`` makes it (the same property list, type, space and
-    link), through h5py's low-level API: that call's argument checks and type derivation are ~40 % of
-    its time for the ~77 small datasets of a result file."""
-    tid = _DATASET_TYPES.get(dtype.str)
-    if tid is None:
-        tid = _DATASET_TYPES[dtype.str] = h5py.h5t.py_create(dtype, logical=1)
-    dcpl.set_fill_value(np.array(fill))
-    dcpl.set_obj_track_times(False)
-    order = h5py.get_config().track_order  # create_dataset's default for track_order
-    dcpl.set_attr_creation_order(h5py.h5p.CRT_ORDER_TRACKED | h5py.h5p.CRT_ORDER_INDEXED if order else 0)
-    space = h5py.h5s.create_simple(shape, None)
-    return h5py.Dataset(h5py.h5d.create(group.id, name.encode(), tid, space, dcpl=dcpl))
-
-
-#: h5py's type for a Python str attribute: variable-length UTF-8.
-_STR = h5py.string_dtype()
-#: (file type, memory type) of an attribute, per value kind: what h5py's ``attrs[name] = value`` derives
-#: (``h5t.py_create`` logical and bit-for-bit) for every attribute anew, derived once.
-_ATTR_TYPES: dict = {}
-_SCALAR_SPACE = None
-
-
-def _set_attrs(obj, attrs: dict) -> None:
-    """Write attributes as ``obj.attrs[name] = value`` does (same HDF5 types, shapes and values, an
-    existing attribute replaced), through h5py's low-level API with the types derived once per kind:
-    about half the time of the high-level path (which guesses the dtype and derives both HDF5 types
-    anew for each attribute; measured on 300 attributes, 18 -> 10 ms), for the ~220 attributes of a
-    result file. Values other than a str or a numeric (int, unsigned, float) numpy scalar, array or
-    Python number take the high-level path unchanged.
-    """
-    global _SCALAR_SPACE
-    oid = obj.id
-    for name, value in attrs.items():
-        if type(value) is str:
-            data, key = np.array(value, dtype=_STR), "str"
-        elif isinstance(value, (int, float, np.ndarray, np.number)) and not isinstance(value, bool):
-            data = np.asarray(value, order="C")
-            key = data.dtype.str
-            if data.dtype.kind not in "iuf":
-                obj.attrs[name] = value
-                continue
-        else:
-            obj.attrs[name] = value
-            continue
-        types = _ATTR_TYPES.get(key)
-        if types is None:
-            types = _ATTR_TYPES[key] = (h5py.h5t.py_create(data.dtype, logical=True), h5py.h5t.py_create(data.dtype))
-        if data.shape:
-            space = h5py.h5s.create_simple(data.shape)
-        else:
-            if _SCALAR_SPACE is None:
-                _SCALAR_SPACE = h5py.h5s.create_simple(())
-            space = _SCALAR_SPACE
-        encoded = name.encode()
-        if h5py.h5a.exists(oid, encoded):
-            h5py.h5a.delete(oid, encoded)
-        attr = h5py.h5a.create(oid, encoded, types[0], space)
-        try:
-            attr.write(data, mtype=types[1])
-        except BaseException:
-            attr.close()
-            h5py.h5a.delete(oid, encoded)
-            raise
-        attr.close()

@@ -244,10 +244,10 @@ def test_files_honour_the_umask(tmp_path):
 
 
 def test_low_level_attributes_are_the_ones_h5py_writes(tmp_path):
-    """The writer's attribute path (:func:`rolling_cli.writer._set_attrs`, types derived once) gives
+    """The writer's attribute path (:func:`rolling_cli.storage.set_attrs`, types derived once) gives
     every attribute the HDF5 type, shape and value that ``obj.attrs[name] = value`` gives, replaces an
     existing one, and leaves other kinds of value (bool, lists) to h5py."""
-    from rolling_cli.writer import _set_attrs
+    from rolling_cli.storage import set_attrs
 
     values = {
         "text": "contact half-width",
@@ -268,8 +268,8 @@ def test_low_level_attributes_are_the_ones_h5py_writes(tmp_path):
     }
     with h5py.File(tmp_path / "a.h5", "w") as handle:
         ours, theirs = handle.create_group("ours"), handle.create_group("theirs")
-        _set_attrs(ours, {"int": "replaced below"})
-        _set_attrs(ours, values)
+        set_attrs(ours, {"int": "replaced below"})
+        set_attrs(ours, values)
         for name, value in values.items():
             theirs.attrs[name] = value
         assert list(ours.attrs) == list(theirs.attrs)
@@ -291,9 +291,9 @@ def _string_kind(attr) -> tuple | None:
 
 
 def test_low_level_datasets_are_the_ones_h5py_creates(tmp_path):
-    """The writer's contiguous numeric datasets (:func:`rolling_cli.writer._contiguous`) have the
+    """The writer's contiguous numeric datasets (:func:`rolling_cli.storage.contiguous`) have the
     type, shape, layout, fill value and creation properties of ``create_dataset``'s."""
-    from rolling_cli.writer import _contiguous
+    from rolling_cli.storage import contiguous
 
     def properties(ds) -> tuple:
         dcpl = ds.id.get_create_plist()
@@ -318,7 +318,7 @@ def test_low_level_datasets_are_the_ones_h5py_creates(tmp_path):
                         dcpl.set_fill_time(h5py.h5d.FILL_TIME_NEVER)
                     dcpls.append(dcpl)
                 name = f"v{i}{int(never)}"
-                ours = _contiguous(handle, "ours_" + name, shape, dtype, fill, dcpls[0])
+                ours = contiguous(handle, "ours_" + name, shape, dtype, fill, dcpls[0])
                 theirs = handle.create_dataset(
                     "theirs_" + name, shape=shape, dtype=dtype, fillvalue=fill, dcpl=dcpls[1], track_times=False
                 )
