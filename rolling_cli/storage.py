@@ -10,6 +10,7 @@ import h5py
 import numpy as np
 
 from .layout import CONVERGENCE, GROUP_UNITS, Kind, Var, merge, units_of
+from .reader import plain
 from .rows import GROUP_HOOKS
 
 #: Bytes per chunk of the (case, node) variables; (case) variables take CHUNK_ROWS rows.
@@ -267,3 +268,43 @@ def set_attrs(obj, attrs: dict) -> None:
             h5py.h5a.delete(oid, encoded)
             raise
         attr.close()
+
+
+#: The unit names a file uses unless its variables say otherwise.
+DEFAULT_UNITS = {"length": "length", "stress": "stress", "force/length": "force/length", "1": "1"}
+_INTERNAL = {"DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"}
+
+
+def read_schema(group, skip) -> dict[str, Var]:
+    """The variables of an existing file's ``group`` (datasets not in ``skip``) as layout :class:`Var` s."""
+    out = {}
+    for name, obj in group.items():
+        if not isinstance(obj, h5py.Dataset) or name in skip or name == "case_index":
+            continue
+        dims = tuple(obj.dims[i].keys()[0] if obj.dims[i].keys() else "" for i in range(obj.ndim))
+        attrs = {k: v for k, v in obj.attrs.items() if k not in _INTERNAL}
+        if obj.dtype.kind == "S":  # fixed-width text (rollc <= 0.1): rebuilt as variable-length
+            kind = Kind("str", obj.dtype.itemsize)
+        elif h5py.check_string_dtype(obj.dtype):
+            kind = Kind("str")
+        elif plain(attrs.get("dtype")) == "bool":
+            kind = Kind("bool")
+        elif obj.dtype == np.int8:
+            kind = Kind("i1")
+        elif obj.dtype.kind in "iu":
+            kind = Kind("i8")
+        else:
+            kind = Kind("f8")
+        generated = ("coordinates", "dtype", "_Encoding", "flag_values", "flag_meanings", "valid_range")
+        attrs = {k: v for k, v in attrs.items() if k not in generated}
+        out[name] = Var(dims, kind, attrs)
+    return out
+
+
+def read_units(handle) -> dict[str, str]:
+    """The unit names of an existing file (length, stress, force/length), read off its variables."""
+    units = dict(DEFAULT_UNITS)
+    for name, key in (("x", "length"), ("p_n", "stress"), ("normal_load", "force/length")):
+        if name in handle and "units" in handle[name].attrs:
+            units[key] = plain(handle[name].attrs["units"])
+    return units

@@ -26,16 +26,15 @@ own ``string`` type (netCDF-C aborts on fixed-length HDF5 strings).
 from __future__ import annotations
 
 import contextlib
-import itertools
 import json
 import math
 import os
-from dataclasses import dataclass
 
 import h5py
 import numpy as np
 
 from . import outputs, storage
+from .columns import Batch, values_of
 from .layout import (
     CONVENTIONS,
     CONVERGENCE,
@@ -69,11 +68,6 @@ GROWTH = 4
 #: Rows per block when a rebuild turns a shared grid into a per-case one (they bound its memory;
 #: row copies use :data:`rolling_cli.storage.COPY_BYTES`).
 BLOCK_ROWS = 4096
-_INTERNAL = {"DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"}
-
-
-def _units() -> dict[str, str]:
-    return {"length": "length", "stress": "stress", "force/length": "force/length", "1": "1"}
 
 
 def _index(name: str) -> dict:
@@ -84,65 +78,6 @@ def _node_meta() -> dict:
     from .result import DATASETS
 
     return {**DATASETS, **NODE_FIELDS}
-
-
-def _values(kind: Kind, values: list) -> np.ndarray:
-    """A column of ``kind`` from Python values (None -> the fill value)."""
-    try:  # the common case, in numpy's own loop: no value missing, text in ASCII
-        if kind.name == "str":
-            return np.array(values, dtype=kind.dtype) if all(type(v) is str for v in values) else _slow(kind, values)
-        return np.array(values, dtype=kind.dtype)
-    except (TypeError, ValueError, UnicodeEncodeError):
-        return _slow(kind, values)
-
-
-def _slow(kind: Kind, values: list) -> np.ndarray:
-    fill = kind.fill
-    if kind.name == "str":
-        return np.array([fill if v is None else encode(v) for v in values], dtype=kind.dtype)
-    if kind.name == "f8":
-        return np.array([fill if v is None else float(v) for v in values], dtype=float)
-    return np.array([fill if v is None else int(v) for v in values], dtype=kind.dtype)
-
-
-@dataclass
-class _Batch:
-    """The rows of one commit as columns: what planning and writing both read, gathered once."""
-
-    rows: list[Row]
-    coords: dict[str, list]
-    scalars: dict[str, list]
-    arrays: dict[str, list]
-    history_cases: list[int]
-    history: dict[str, list]
-
-    @classmethod
-    def of(cls, rows: list[Row], keys: tuple[str, ...]) -> _Batch:
-        """Gather the columns of ``rows`` (``keys``: the swept keys, in order)."""
-        cases = [r.index for r in rows for _ in r.history]
-        return cls(
-            rows,
-            {k: [r.coords.get(k) for r in rows] for k in keys},
-            _columns([r.scalars for r in rows]),
-            _columns([r.arrays for r in rows]),
-            cases,
-            _columns([e for r in rows for e in r.history]),
-        )
-
-
-def _columns(dicts: list[dict]) -> dict[str, list]:
-    """The values of many dicts as one list per key (None where a dict lacks it), in key order.
-
-    Dicts with the same keys in the same order (the usual rows of a sweep) are transposed in one
-    step; otherwise each key is looked up in each dict.
-    """
-    if not dicts:
-        return {}
-    first = tuple(dicts[0])
-    if all(tuple(d) == first for d in dicts):
-        return dict(zip(first, map(list, zip(*(d.values() for d in dicts), strict=True)), strict=True))
-    names = dict.fromkeys(itertools.chain.from_iterable(dicts))
-    return {n: [d.get(n) for d in dicts] for n in names}
 
 
 class ResultFile:
@@ -175,7 +110,7 @@ class ResultFile:
         self.exists = False
         self.broken = False
         self.restructure = True  # the next commit rebuilds (root attributes changed)
-        self.units = _units()
+        self.units = dict(storage.DEFAULT_UNITS)
 
     # ----------------------------------------------------------------- opening
     @classmethod
@@ -189,9 +124,9 @@ class ResultFile:
             self.done = int(attrs.get("cases_complete", 0))
             self.case_cap = handle["case"].shape[0]
             self.node_cap = handle["node"].shape[0] if "node" in handle else 0
-            self.schema = self._read_schema(handle, ("case", "node"))
+            self.schema = storage.read_schema(handle, ("case", "node"))
             if CONVERGENCE in handle:
-                self.history = self._read_schema(handle[CONVERGENCE], ("row",))
+                self.history = storage.read_schema(handle[CONVERGENCE], ("row",))
                 self.hist_cap = handle[CONVERGENCE]["row"].shape[0]
             if "history_rows" in handle and self.done:
                 self.hist_done = int(handle["history_rows"][: self.done].sum())
@@ -199,7 +134,7 @@ class ResultFile:
                 if name in self.schema and self.schema[name].dims == ("node",):
                     self.grid[name] = handle[name][()]
             self.extras = {name for name in GROUP_HOOKS if name in handle}
-            self.units = self._read_units(handle)
+            self.units = storage.read_units(handle)
             fixed_text = any(isinstance(o, h5py.Dataset) and o.dtype.kind == "S" for o in storage.datasets(handle))
         described = self._describe_all()
         self.restructure = fixed_text or described  # an older file: the next commit rebuilds it
@@ -222,39 +157,6 @@ class ResultFile:
                 var.attrs.update(missing)
                 changed = changed or bool(missing)
         return changed
-
-    @staticmethod
-    def _read_schema(group, skip) -> dict[str, Var]:
-        out = {}
-        for name, obj in group.items():
-            if not isinstance(obj, h5py.Dataset) or name in skip or name == "case_index":
-                continue
-            dims = tuple(obj.dims[i].keys()[0] if obj.dims[i].keys() else "" for i in range(obj.ndim))
-            attrs = {k: v for k, v in obj.attrs.items() if k not in _INTERNAL}
-            if obj.dtype.kind == "S":  # fixed-width text (rollc <= 0.1): rebuilt as variable-length
-                kind = Kind("str", obj.dtype.itemsize)
-            elif h5py.check_string_dtype(obj.dtype):
-                kind = Kind("str")
-            elif plain(attrs.get("dtype")) == "bool":
-                kind = Kind("bool")
-            elif obj.dtype == np.int8:
-                kind = Kind("i1")
-            elif obj.dtype.kind in "iu":
-                kind = Kind("i8")
-            else:
-                kind = Kind("f8")
-            generated = ("coordinates", "dtype", "_Encoding", "flag_values", "flag_meanings", "valid_range")
-            attrs = {k: v for k, v in attrs.items() if k not in generated}
-            out[name] = Var(dims, kind, attrs)
-        return out
-
-    @staticmethod
-    def _read_units(handle) -> dict[str, str]:
-        units = _units()
-        for name, key in (("x", "length"), ("p_n", "stress"), ("normal_load", "force/length")):
-            if name in handle and "units" in handle[name].attrs:
-                units[key] = plain(handle[name].attrs["units"])
-        return units
 
     # ----------------------------------------------------------------- public
     def add(self, row: Row) -> None:
@@ -281,7 +183,7 @@ class ResultFile:
         if self.broken or (not rows and not self.restructure and self.exists):
             return
         try:
-            batch = _Batch.of(rows, self.keys)
+            batch = Batch.of(rows, self.keys)
             plan = self._plan(batch)
             if plan is None and not self.restructure and self.exists:
                 self._append(batch)
@@ -307,7 +209,7 @@ class ResultFile:
             plan["case_cap"], plan["hist_cap"] = self.done, self.hist_done
             plan["copied"] = True  # every element is copied: no fill values to write first
             plan["order"] = order
-            self._rebuild(_Batch.of([], self.keys), plan)
+            self._rebuild(Batch.of([], self.keys), plan)
 
     def _sweep_order(self) -> np.ndarray | None:
         """The committed rows' order by case index (None when they are in that order already)."""
@@ -330,7 +232,7 @@ class ResultFile:
             "fixed": self.total == 1,
         }
 
-    def _plan(self, batch: _Batch) -> dict | None:
+    def _plan(self, batch: Batch) -> dict | None:
         """The structure the batch needs, or None when it fits the file as it is."""
         rows = batch.rows
         schema, history, grid = dict(self.schema), dict(self.history), dict(self.grid)
@@ -407,7 +309,7 @@ class ResultFile:
         return grown
 
     # ----------------------------------------------------------------- writing
-    def _append(self, batch: _Batch) -> None:
+    def _append(self, batch: Batch) -> None:
         """Rows into the space the file already has; ``cases_complete`` last."""
         rows = batch.rows
         try:
@@ -430,7 +332,7 @@ class ResultFile:
             return "nothing was written"
         return f"the {self.done} cases committed before are kept (continue with --resume)"
 
-    def _rebuild(self, batch: _Batch, plan: dict) -> None:
+    def _rebuild(self, batch: Batch, plan: dict) -> None:
         """A new file with the planned structure, the committed rows and the batch; renamed over the old."""
         rows = batch.rows
         plan = {
@@ -581,7 +483,7 @@ class ResultFile:
                     for sub in target[key] if key.startswith("case_") else ():
                         target[sub] = h5py.SoftLink(f"/{name}/{key}/{sub}")
 
-    def _write_rows(self, handle, batch: _Batch, schema: dict, history: dict, node_cap: int) -> None:
+    def _write_rows(self, handle, batch: Batch, schema: dict, history: dict, node_cap: int) -> None:
         """The batch's values at rows ``done`` on (and its history rows at ``hist_done`` on)."""
         rows = batch.rows
         if not rows:
@@ -595,7 +497,7 @@ class ResultFile:
             if var.dims == ("case",):
                 values = batch.coords[by_name[name]] if name in by_name else batch.scalars.get(name)
                 if values is not None:
-                    storage.put(handle, name, start, _values(var.kind, values))
+                    storage.put(handle, name, start, values_of(var.kind, values))
             elif name in batch.arrays:
                 block = np.full((len(rows), node_cap), var.kind.fill, dtype=var.kind.dtype)
                 for i, array in enumerate(batch.arrays[name]):
@@ -608,7 +510,7 @@ class ResultFile:
             storage.put(group, "row", lo, np.arange(lo, lo + len(batch.history_cases), dtype=np.int64))
             storage.put(group, "case_index", lo, np.array(batch.history_cases, dtype=np.int64))
             for name, values in batch.history.items():
-                storage.put(group, name, lo, _values(history[name].kind, values))
+                storage.put(group, name, lo, values_of(history[name].kind, values))
 
     def _write_extras(self, handle, rows: list[Row]) -> None:
         for row in rows:
