@@ -12,12 +12,16 @@ layer under overlap control near full slip, both within the default iteration bu
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
 from helpers import assert_contact_laws, assert_force_balance, case_dict, solve
-from rolling_cli import materials
-from rolling_cli.solver import formulation
+from rolling_cli import materials, pipeline
+from rolling_cli.case import load_case
+from rolling_cli.solver import formulation, reduced, strategies
+from rolling_cli.solver.budget import Budget
 
 SMALL_FRICTION = {
     "bodies.A": {
@@ -72,3 +76,61 @@ def test_merit_weighs_tangential_rows_against_at_least_a_tenth_of_the_normal_sca
     big = formulation.Scales(normal=2.0, tangential=1.0, merit_tangential=0.2)  # mu = 0.5: unchanged
     ev.scales = big
     assert ev.merit == pytest.approx(0.5 * 0.02**2)
+
+
+# --- thin incompressible layer under overlap control ----------------------------------------------------
+
+A_HERTZ = math.sqrt(4.0 * 0.5 * 50.0 / (math.pi * 10.0 / 0.75))  # P = 0.5, R* = 50, E* = 10 / 0.75
+
+
+def _thin_layer(overlap, q, direction, elements=200, thickness=0.05 * A_HERTZ):
+    layer = {"kind": "layered", "radius": 100.0, "young": 10.0, "poisson": 0.5, "layer_thickness": thickness}
+    return case_dict(
+        **{
+            "bodies.A": {"kind": "rigid", "radius": 100.0},
+            "bodies.B": layer,
+            "normal.overlap": overlap,
+            "tangential.q_over_mu_p": q,
+            "rolling.direction": direction,
+            "discretization.influence": "bem",
+            "discretization.contact_elements": elements,
+        }
+    )
+
+
+@pytest.mark.parametrize("direction", [1, -1])
+@pytest.mark.parametrize(("overlap", "q"), [(0.009, 0.9), (0.01, 0.95)])
+def test_thin_incompressible_layer_near_full_slip_within_the_default_budget(overlap, q, direction):
+    """Q of the sign of V (the hard side: 148 and 137 iterations on main); both directions."""
+    r = solve(_thin_layer(overlap, q * direction, direction))
+    assert r.converged and r.iterations <= 100  # the default solver.max_iterations
+    assert_contact_laws(r, r.tolerance_applied)
+    assert_force_balance(r, q=q * direction * r.mu * r.normal_load, tolerance=r.tolerance_applied)
+    assert 0.04 <= 0.05 * A_HERTZ / r.contact_half_width <= 0.06  # b/a about 0.05: the thin layer meant
+
+
+def test_creep_root_slope_includes_the_target_moving_with_the_load():
+    """d(Q - Q_target)/dxi at fixed node states, with Q_target = (Q/(mu P)) mu P(xi) under overlap
+    control, equals the difference quotient of two Newton points (linear in xi at fixed states)."""
+    case = load_case(_thin_layer(0.004, 0.6, 1, elements=30, thickness=0.5))
+    the_plan, system = pipeline.prepare(case)
+    task = pipeline._task(case, the_plan, system)
+    assert task.formulation == "coupled" and task.controls.overlap is not None
+    solution = strategies.default(task)(task, pipeline.initial_state(case, the_plan, system), Budget(100), cold=True)
+    problem = task.problem("coupled")
+    held = problem.held(force=None)
+    state = solution.state
+    ev = formulation.evaluate(held, state, formulation.traction_scales(held, state))
+    d_q, dp_n = reduced.creep_derivatives(held, state, ev)
+    assert d_q == reduced.creep_sensitivity(held, state, ev)
+    h = 1e-3 * abs(state.creep)
+    shifted = state.copy()
+    shifted.creep += h
+    moved = reduced.newton_point(held, shifted, ev)
+    w = system.weights
+    assert np.max(np.abs(dp_n - (moved.p_n - state.p_n) / h)) <= 1e-6 * np.max(np.abs(dp_n))
+    _, d_target = problem.force_target(state.p_n)
+    slope = float(w @ (moved.p_t - state.p_t)) / h - float(d_target @ (moved.p_n - state.p_n)) / h
+    assert d_q - float(d_target @ dp_n) == pytest.approx(slope, rel=1e-6)
+    # the load moves with xi through the coupling: the target's share of the slope is not negligible
+    assert abs(float(d_target @ dp_n)) > 1e-3 * abs(d_q)
