@@ -17,7 +17,20 @@ A case passes when it converges and satisfies the contact laws and the force
 balance (tests/helpers.py) at the tolerance the solve applied. Every failure is
 listed with its reason and mu |beta_Dundurs|.
 
-    python benchmarks/robustness.py [--seeds 1,2,3,4,5,6,7] [--cases 400] [--layers 200]
+Part 3, small friction (``--small-mu N``, issue 26): half-spaces with mu from
+1e-4 to 1e-2 (log-uniform) and a coupling (|beta_Dundurs| >= 0.02: moduli
+1e1-1e6, Poisson ratios 0-0.5, a rigid body A with probability 0.3), near full
+slip (Q/(mu P) = +-0.999 or +-0.95 to 0.999), both rolling directions, radii
+100-2e4, 20-200 contact elements, BEM one time in two, loaded by force.
+
+Part 4, thin incompressible layers near full slip (``--thin-layers``, issue
+26): a rigid R = 100 on a layered R = 100 (E = 10, nu = 0.5), b = 0.05 a_H
+(a_H = 1.545, Hertz's half-width of P = 0.5 on a half-space of the layer's
+material), overlaps 0.0085-0.011 (a = 1.44-1.64), mu = 0.1, 200 elements, BEM,
+Q/(mu P) = 0.7, 0.8, 0.9, 0.95 in both rolling directions (40 fixed cases).
+
+    python benchmarks/robustness.py [--seeds 1,2,3,4,5,6,7] [--cases 400] [--layers 200] [--small-mu 20]
+                                    [--thin-layers] [--skip-half-spaces]
 """
 
 from __future__ import annotations
@@ -64,6 +77,29 @@ def random_case(rng: random.Random) -> tuple[dict, float]:
     )
 
 
+def random_small_mu_case(rng: random.Random) -> tuple[dict, float]:
+    """A small-friction, coupled half-space case near full slip (part 3) and its mu |beta_Dundurs|."""
+    from rolling_cli import materials
+
+    while True:  # a coupling: redraw the materials until |beta_Dundurs| >= 0.02
+        rigid = rng.random() < 0.3
+        nu_a, nu_b = rng.uniform(0.0, 0.5), rng.uniform(0.0, 0.5)
+        young_a, young_b = _log_uniform(rng, 1e1, 1e6), _log_uniform(rng, 1e1, 1e6)
+        beta = materials.dundurs_beta(math.inf if rigid else young_a, 0.0 if rigid else nu_a, young_b, nu_b)
+        if abs(beta) >= 0.02:
+            break
+    mu = _log_uniform(rng, 1e-4, 1e-2)
+    q = rng.choice([-1.0, 1.0]) * rng.choice([0.999, rng.uniform(0.95, 0.999)])
+    load = _log_uniform(rng, 1, 1e3)
+    radius_a, radius_b = _log_uniform(rng, 100, 2e4), _log_uniform(rng, 100, 2e4)
+    direction = rng.choice([-1, 1])
+    elements = rng.randint(20, 200)
+    influence = rng.choice(["half-plane", "bem"])
+    return helpers.random_case(
+        young_a, young_b, rigid, nu_a, nu_b, radius_a, radius_b, mu, load, q, direction, elements, influence
+    )
+
+
 def random_layer_case(rng: random.Random) -> tuple[dict, float]:
     """A rigid cylinder on a layer (part 2); returns the case and 0 (no Dundurs beta for a layer).
 
@@ -104,6 +140,79 @@ def random_layer_case(rng: random.Random) -> tuple[dict, float]:
     return data, 0.0
 
 
+#: Hertz's half-width of P = 0.5 for R = 100 on R = 100, E* = 10 / (1 - 0.25) (part 4).
+THIN_A_HERTZ = math.sqrt(4.0 * 0.5 * 50.0 / (math.pi * 10.0 / 0.75))
+#: Overlaps of part 4: 0.0085, 0.009 and 0.011 needed 137-154 iterations before issue 26.
+THIN_OVERLAPS = (0.0085, 0.009, 0.0093, 0.01, 0.011)
+
+
+def thin_layer_case(overlap: float, q: float, direction: int) -> dict:
+    """Part 4's case: a rigid cylinder on a thin incompressible layer (b = 0.05 a_H), by overlap."""
+    layer = {"kind": "layered", "radius": 100.0, "young": 10.0, "poisson": 0.5}
+    return case_dict(
+        **{
+            "bodies.A": {"kind": "rigid", "radius": 100.0},
+            "bodies.B": {**layer, "layer_thickness": 0.05 * THIN_A_HERTZ},
+            "friction.mu": 0.1,
+            "normal.overlap": overlap,
+            "tangential.q_over_mu_p": q,
+            "rolling.direction": direction,
+            "discretization.influence": "bem",
+            "discretization.contact_elements": 200,
+        }
+    )
+
+
+def thin_layer_cases() -> list[dict]:
+    """The 40 cases of part 4."""
+    return [
+        thin_layer_case(overlap, q, direction)
+        for overlap in THIN_OVERLAPS
+        for q in (0.7, 0.8, 0.9, 0.95)
+        for direction in (1, -1)
+    ]
+
+
+def check(data: dict) -> int:
+    """Solve ``data`` cold with the defaults, check the contact laws and the force balance at the
+    tolerance the solve applied; returns the iterations (all mesh levels together)."""
+    with np.errstate(divide="raise", over="raise", invalid="raise", under="ignore"):
+        r = solve(data)
+        assert_contact_laws(r, r.tolerance_applied)
+        load = data["normal"].get("load")
+        q = data["tangential"]["q_over_mu_p"] * data["friction"]["mu"] * (load or r.normal_load)
+        assert_force_balance(r, load=load, q=q, tolerance=r.tolerance_applied)
+        return r.iterations_total
+
+
+def run_fixed(cases: list[dict], label: str) -> collections.Counter:
+    """Solve fixed cases; print one line per case (its iterations) and a summary row."""
+    print(f"\n{label}\n")
+    totals: collections.Counter = collections.Counter()
+    iterations = []
+    t0 = time.perf_counter()
+    for data in cases:
+        what = (
+            f"overlap {data['normal'].get('overlap')}, Q/(mu P) {data['tangential']['q_over_mu_p']:+g}, "
+            f"direction {data['rolling']['direction']:+d}"
+        )
+        try:
+            its = check(data)
+            iterations.append(its)
+            print(f"- {what}: {its} iterations", flush=True)
+        except Exception as err:  # every failure is counted and listed, whatever its type
+            totals[type(err).__name__] += 1
+            print(f"- {what}: FAILED {type(err).__name__}: {str(err)[:200]}", flush=True)
+    its = np.array(iterations or [0])
+    print("\n| cases | failed | median iterations | max | total | time [s] |\n|---:|---:|---:|---:|---:|---:|")
+    print(
+        f"| {len(cases)} | {sum(totals.values())} | {np.median(its):.0f} | {its.max()} | {its.sum()} "
+        f"| {time.perf_counter() - t0:.0f} |"
+    )
+    print(f"\nfailures by type: {dict(totals) or 'none'}")
+    return totals
+
+
 def run(draw, seeds: list[int], cases: int, label: str) -> collections.Counter:
     """Solve ``cases`` draws per seed; print one table row per seed and every failure."""
     print(f"\n{label}\n")
@@ -119,13 +228,7 @@ def run(draw, seeds: list[int], cases: int, label: str) -> collections.Counter:
         for k in range(cases):
             data, coupling = draw(rng)
             try:
-                with np.errstate(divide="raise", over="raise", invalid="raise", under="ignore"):
-                    r = solve(data)
-                    assert_contact_laws(r, r.tolerance_applied)
-                    load = data["normal"].get("load")
-                    q = data["tangential"]["q_over_mu_p"] * data["friction"]["mu"] * (load or r.normal_load)
-                    assert_force_balance(r, load=load, q=q, tolerance=r.tolerance_applied)
-                    iterations.append(r.iterations_total)
+                iterations.append(check(data))
             except Exception as err:  # every failure is counted and listed, whatever its type
                 failed += 1
                 totals[type(err).__name__] += 1
@@ -137,7 +240,7 @@ def run(draw, seeds: list[int], cases: int, label: str) -> collections.Counter:
             flush=True,
         )
     for seed, k, coupling, kind, message in failures:
-        print(f"- seed {seed}, case {k} (mu |beta_Dundurs| = {coupling:.3f}): {kind}: {message}")
+        print(f"- seed {seed}, case {k} (mu |beta_Dundurs| = {coupling:.3g}): {kind}: {message}")
     print(f"\nfailures by type: {dict(totals) or 'none'}")
     return totals
 
@@ -147,12 +250,20 @@ def main() -> None:
     parser.add_argument("--seeds", default="1,2,3,4,5,6,7")
     parser.add_argument("--cases", type=int, default=400)
     parser.add_argument("--layers", type=int, default=0, help="layer cases per seed (part 2); 0 skips it")
+    parser.add_argument("--small-mu", type=int, default=0, help="small-friction cases per seed (part 3); 0 skips it")
+    parser.add_argument("--thin-layers", action="store_true", help="the thin-layer cases (part 4)")
+    parser.add_argument("--skip-half-spaces", action="store_true", help="skip part 1")
     args = parser.parse_args()
     logging.disable(logging.WARNING)  # zone enlargements are expected here; the table counts outcomes
     seeds = [int(s) for s in args.seeds.split(",")]
-    run(random_case, seeds, args.cases, "Part 1: half-spaces, loaded by force")
+    if not args.skip_half_spaces:
+        run(random_case, seeds, args.cases, "Part 1: half-spaces, loaded by force")
     if args.layers:
         run(random_layer_case, seeds, args.layers, "Part 2: a rigid cylinder on a layer, by overlap or force")
+    if args.small_mu:
+        run(random_small_mu_case, seeds, args.small_mu, "Part 3: small friction (1e-4 to 1e-2), coupled, near slip")
+    if args.thin_layers:
+        run_fixed(thin_layer_cases(), "Part 4: thin incompressible layer near full slip, by overlap")
 
 
 if __name__ == "__main__":

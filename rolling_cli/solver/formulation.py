@@ -30,7 +30,8 @@ Residuals are measured in units of the traction scales: the normal rows
 against s_n = max(max|p_n|, P / zone length), the tangential rows against
 s_t = mu s_n, so that a tolerance means the same for any penalty and any
 friction coefficient (a prescribed Q is met to tolerance * mu P however small
-mu is).
+mu is). The merit that the globalisation decreases weighs the tangential rows
+against max(mu, 0.1) s_n instead (:func:`traction_scales`).
 """
 
 from __future__ import annotations
@@ -136,10 +137,30 @@ class Scales:
 
     normal: float
     tangential: float
+    merit_tangential: float = 0.0
+
+    @property
+    def weight_tangential(self) -> float:
+        """The scale that weighs the tangential rows in the merit [stress]: :data:`MERIT_FRICTION` s_n
+        at least (see :func:`traction_scales`)."""
+        return max(self.tangential, self.merit_tangential)
+
+
+#: The tangential rows weigh in the merit as if mu were at least this (see :func:`traction_scales`).
+MERIT_FRICTION = 0.1
 
 
 def traction_scales(problem: Problem, state: State) -> Scales:
-    """s_n = max(max|p_n|, P / zone length) and s_t = mu s_n (s_n when frictionless) [stress]."""
+    """s_n = max(max|p_n|, P / zone length) and s_t = mu s_n (s_n when frictionless) [stress].
+
+    The convergence test (:attr:`Evaluation.relative_residual`) divides the tangential rows by
+    s_t; the merit that the globalisation decreases (:attr:`Evaluation.merit`) by
+    max(mu, :data:`MERIT_FRICTION`) s_n. With s_t alone the tangential rows outweigh the normal
+    ones by 1/mu^2 (1e5 at mu = 0.003): with a coupling a step that settles the pressure, and
+    with it the friction bound, raises the merit through the tangential rows and is refused,
+    and small-friction cases near full slip ran out of iterations (issue 26: 100+ iterations
+    against 24 with the weight floored, benchmarks/RESULTS.md). Where mu >= 0.1 nothing changes.
+    """
     system = problem.system
     s_n = float(np.max(np.abs(state.p_n))) if state.p_n.size else 0.0
     if problem.load is not None:
@@ -147,7 +168,7 @@ def traction_scales(problem: Problem, state: State) -> Scales:
     if not s_n > 0.0:
         s_n = 1.0
     s_t = problem.mu * s_n if problem.mu > 0.0 else s_n
-    return Scales(s_n, s_t)
+    return Scales(s_n, s_t, MERIT_FRICTION * s_n)
 
 
 @dataclass
@@ -170,8 +191,9 @@ class Evaluation:
 
     @property
     def merit(self) -> float:
-        """0.5 |F / s|^2, every row divided by its traction scale [-]."""
-        s_n, s_t = self.scales.normal, self.scales.tangential
+        """0.5 |F / s|^2, every row divided by its traction scale, the tangential ones by
+        :attr:`Scales.weight_tangential` (see :func:`traction_scales`) [-]."""
+        s_n, s_t = self.scales.normal, self.scales.weight_tangential
         return 0.5 * (
             (float(self.F_n @ self.F_n) + self.F_load**2) / s_n**2
             + (float(self.F_t @ self.F_t) + self.F_force**2) / s_t**2

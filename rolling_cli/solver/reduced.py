@@ -245,6 +245,13 @@ def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
     derivative of the solution gives dp_t/dxi on the adhesion nodes, and on slip
     nodes through p_n (coupled mode). Returns sum w dp_t/dxi.
     """
+    return creep_derivatives(problem, state, ev)[0]
+
+
+def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[float, np.ndarray]:
+    """dQ/dxi [force/length] and dp_n/dxi [stress] (zero where p_n is held) at fixed node states
+    (see :func:`creep_sensitivity`): under overlap control the load, and with it a target Q
+    given as Q/P or Q/(mu P), moves with the creepage through the coupling."""
     if problem.creep_unknown or not problem.tangential:
         raise ValueError("the creep sensitivity needs a tangential problem with the creepage held")
     sets = node_sets(problem, state, ev)
@@ -256,8 +263,9 @@ def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
     ns = sets.stick.size
     w = problem.system.weights
     d_q = float(w[sets.stick] @ dz[nc : nc + ns])
-    if reduced.coef is not None:
-        dp_n = np.zeros_like(state.p_n)
+    dp_n = np.zeros_like(state.p_n)
+    if problem.normal:
         dp_n[sets.contact] = dz[:nc]
+    if reduced.coef is not None:
         d_q += float(w[sets.slip] @ (reduced.coef[np.searchsorted(sets.contact, sets.slip)] * dp_n[sets.slip]))
-    return d_q
+    return d_q, dp_n
