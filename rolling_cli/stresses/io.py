@@ -1,4 +1,9 @@
-"""The ``stresses`` group of a result file: one subgroup per body, ``stresses/A`` and ``stresses/B``.
+"""The ``stresses`` subgroups of a result file: one per body, ``A`` and ``B``, of each case.
+
+In a file they sit under the case's row, ``stresses/case_000000/A`` and
+``stresses/case_000000/B`` (:mod:`rolling_cli.writer`; a single result also
+links ``stresses/A`` and ``stresses/B`` to them); :func:`write_bodies` fills
+one case's group.
 
 Each subgroup holds the coordinates ``x`` and ``z`` (depth below that body's
 surface, z >= 0, the case's length unit) and the (z, x) fields ``sigma_xx``,
