@@ -108,9 +108,9 @@ def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray, kinks=Non
     labels = [label for label in case.stresses.bodies if model_name(case, label) != "rigid"]
     if not labels:
         return {}
-    samples, edges = surface_samples(the_plan.grid, p_n, kinks)
+    samples, edges, boundaries = surface_samples(the_plan.grid, p_n, kinks)
     if influence_model(case)[0] == "half-plane":
-        components = _halfplane(case, the_plan, p_n, p_t, labels, samples, edges)
+        components = _halfplane(case, the_plan, p_n, p_t, labels, samples, (edges, boundaries))
     else:
         components = _bem(case, the_plan, p_n, p_t, labels, samples)
     out = {}
@@ -125,28 +125,32 @@ def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray, kinks=Non
     return out
 
 
-def surface_samples(grid, p_n: np.ndarray, kinks=None) -> tuple[np.ndarray, np.ndarray]:
-    """The surface samples [length] (contact nodes and kinks inside the zone, increasing) and the contact edges."""
+def surface_samples(grid, p_n: np.ndarray, kinks=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The surface samples [length] (contact nodes and kinks inside the zone, increasing), the contact
+    edges and the stick/slip boundaries [length]."""
     from ..adapt import kinks as locate  # numpy only
 
     if kinks is None:
         positions = edges = locate.contact_edges(grid.x, np.asarray(p_n, dtype=float))
+        boundaries = np.empty(0)
     else:
         positions, kinds = (np.asarray(v) for v in kinks)
         edges = positions[kinds == locate.CONTACT_EDGE].astype(float)
+        boundaries = positions[kinds == locate.STICK_SLIP].astype(float)
     positions = np.asarray(positions, dtype=float)
     inside = (positions > grid.edges[0]) & (positions < grid.edges[-1])
-    return np.union1d(grid.x, positions[inside]), edges
+    return np.union1d(grid.x, positions[inside]), edges, boundaries
 
 
-def _halfplane(case, the_plan, p_n, p_t, labels, samples, edges) -> dict:
+def _halfplane(case, the_plan, p_n, p_t, labels, samples, kinks) -> dict:
     grid = the_plan.grid
     signs = [1.0 if label == "A" else -1.0 for label in labels]  # B carries -p_t
     x, z = field_grid(case, the_plan, labels[0])  # the same grid for every half-plane body
     deep = z > 0.0  # the surface row from the continuous traction (:mod:`.surface`), the rest exact per element
     below = halfplane.both_signs(grid, p_n, p_t, x[None, :], z[deep, None], signs)
-    top = surface.both_signs(grid, p_n, p_t, x, edges, signs)
-    at_samples = surface.both_signs(grid, p_n, p_t, samples, edges, signs)
+    edges, boundaries = kinks
+    top = surface.both_signs(grid, p_n, p_t, x, edges, signs, boundaries)
+    at_samples = surface.both_signs(grid, p_n, p_t, samples, edges, signs, boundaries)
     out = {}
     for label, deep_rows, row, sample in zip(labels, below, top, at_samples, strict=True):
         components = []

@@ -17,14 +17,20 @@ uses instead one continuous density through the nodal values:
   square root f_1 sqrt(|s - e| / |x_1 - e|), the shape of a smooth contact's
   pressure and of its slip traction there (it is stored as the linear chord
   plus the correction f_1 (sqrt(v) - v), v = |s - e| / |x_1 - e|, which
-  vanishes at both ends and has the closed-form Cauchy integral :func:`edge_kernel`).
+  vanishes at both ends and has the closed-form Cauchy integral :func:`edge_kernel`);
+* at a located stick/slip boundary b (a knot for q): the slip law
+  q = tau mu |p_n| up to b, then the adhesion node's friction reserve
+  opening like a square root, the correction -tau r_k (sqrt(v) - v) between b
+  and that node (:func:`representation`).
 
 The density is continuous, so sigma_xx is finite and continuous everywhere
 (the linear pieces' kinks give bounded (x - knot) log|x - knot| terms), equals
-p_n and -q at the nodes, and at a contact edge it is the square-root cusp's
-peak value: for Carter's traction (200 elements) within 0.6 % of the exact
-trailing-edge tension (:func:`rolling_cli.references.carter_surface.sigma_xx`),
-where the element interpolation sampled at the nodes reads 6 % low.
+p_n and -q at the nodes, and at a kink it is the square-root cusp's peak
+value. Carter's case at 200 elements: the trailing-edge tension within 0.6 %
+of the closed form (:func:`rolling_cli.references.carter_surface.sigma_xx`;
+the element interpolation at the nodes reads 6 % low), von Mises and Tresca
+at the stick/slip boundary (mu = 0.3, Q/(mu P) = 0.95) within 0.01 % (2 %
+low on the nodes and the field grid).
 """
 
 from __future__ import annotations
@@ -58,40 +64,78 @@ def edge_kernel(eta: np.ndarray) -> np.ndarray:
     return out
 
 
-def _knots(grid: ContactGrid, p_n: np.ndarray, edges: np.ndarray):
-    """Knot positions, the knot index of each nodal value, and each kept edge's (knot, contact-side knot)."""
+def _kinks_between_nodes(x: np.ndarray, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The positions strictly between two nodes (not on one), unique, and the node right of each."""
+    positions = np.asarray(positions, dtype=float)
+    positions = np.unique(positions[(positions > x[0]) & (positions < x[-1]) & ~np.isin(positions, x)])
+    return positions, np.searchsorted(x, positions)
+
+
+def representation(grid: ContactGrid, p_n: np.ndarray, q: np.ndarray, edges: np.ndarray, boundaries=()):
+    """The continuous surface traction (module docstring) as knots and square-root corrections.
+
+    Returns ``knots`` (K,) [length], ``values`` (2, K) [stress] (p_n and q at the
+    knots: linear between them) and ``corrections``: (e, s, amplitude (2,)) per
+    square root, which adds amplitude (sqrt(v) - v), v = |x - knots[e]| /
+    |knots[s] - knots[e]|, between knots e and s (neighbours). Contact
+    ``edges``: value 0 at the edge, amplitude the contact node's values.
+    Stick/slip ``boundaries`` [length]: q keeps the slip law up to the
+    boundary, q(b) = tau mu |p_n(b)| (tau, mu = |q|/|p_n| of the slip node,
+    the one of the pair with the larger |q|/|p_n|), and the friction reserve
+    r_k = mu |p_n,k| - |q_k| of the adhesion node opens like a square root:
+    amplitude (0, -tau r_k).
+    """
     x = grid.x
-    edges = np.asarray(edges, dtype=float)
-    inside = (edges > x[0]) & (edges < x[-1]) & ~np.isin(edges, x)
-    edges = np.unique(edges[inside])
-    right = np.searchsorted(x, edges)  # the node right of each edge
+    edges, right = _kinks_between_nodes(x, edges)
     contact_right = p_n[right] < 0.0
-    between = contact_right != (p_n[right - 1] < 0.0)  # a contact edge lies between contact and separation
-    edges, contact_right = edges[between], contact_right[between]
-    knots = np.concatenate([[grid.edges[0]], x, edges, [grid.edges[-1]]])
-    knots = np.unique(knots)  # the zone's ends are never nodes
+    keep = contact_right != (p_n[right - 1] < 0.0)  # a contact edge lies between contact and separation
+    edges, contact_right = edges[keep], contact_right[keep]
+    boundaries, b_right = _kinks_between_nodes(x, boundaries)
+    ratio = np.abs(q) / np.where(p_n < 0.0, -p_n, np.inf)  # |q|/|p_n|, 0 off contact
+    in_contact = (p_n[b_right] < 0.0) & (p_n[b_right - 1] < 0.0)
+    boundaries, b_right = boundaries[in_contact], b_right[in_contact]
+    slip_right = ratio[b_right] > ratio[b_right - 1]
+    knots = np.unique(np.concatenate([[grid.edges[0]], x, edges, boundaries, [grid.edges[-1]]]))
+    values = np.zeros((2, knots.size))
     node_knot = np.searchsorted(knots, x)
-    edge_knot = np.searchsorted(knots, edges)
-    side = np.where(contact_right, edge_knot + 1, edge_knot - 1)  # the contact node next to the edge
-    return knots, node_knot, edge_knot, side
+    values[0, node_knot], values[1, node_knot] = p_n, q
+    corrections = []
+    for e, on_right in zip(np.searchsorted(knots, edges), contact_right, strict=True):  # a handful
+        side = e + 1 if on_right else e - 1  # the contact node next to the edge
+        corrections.append((e, side, values[:, side].copy()))
+    for b, right_node, on_right in zip(np.searchsorted(knots, boundaries), b_right, slip_right, strict=True):
+        slip, stick = (right_node, right_node - 1) if on_right else (right_node - 1, right_node)
+        mu, tau = ratio[slip], np.sign(q[slip])
+        w = (knots[b] - x[right_node - 1]) / (x[right_node] - x[right_node - 1])
+        values[0, b] = (1.0 - w) * p_n[right_node - 1] + w * p_n[right_node]
+        values[1, b] = -tau * mu * values[0, b]
+        reserve = max(mu * -p_n[stick] - abs(q[stick]), 0.0)
+        corrections.append((b, node_knot[stick], np.array([0.0, -tau * reserve])))
+    return knots, values, corrections
 
 
 def both_signs(
-    grid: ContactGrid, p_n: np.ndarray, q: np.ndarray, x: np.ndarray, edges: np.ndarray, signs=(1.0, -1.0)
+    grid: ContactGrid,
+    p_n: np.ndarray,
+    q: np.ndarray,
+    x: np.ndarray,
+    edges: np.ndarray,
+    signs=(1.0, -1.0),
+    boundaries=(),
 ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """(sigma_xx, sigma_zz, tau_xz) [stress] at surface points ``x`` [length] for the traction sign * q, per sign.
 
     ``p_n`` (<= 0 in compression) and ``q`` (on the body along +x) [stress] are
     the nodal values on ``grid``; ``edges`` [length] the located contact edges
     (:func:`rolling_cli.adapt.kinks.contact_edges`; each between a contact node
-    and a separated one). Outputs have the shape of ``x``.
+    and a separated one), ``boundaries`` [length] the stick/slip boundaries
+    (:func:`rolling_cli.adapt.kinks.stick_slip_boundaries`). Outputs have the
+    shape of ``x``.
     """
     x = np.asarray(x, dtype=float)
     flat = x.ravel() - grid.centre
     p_n, q = np.asarray(p_n, dtype=float), np.asarray(q, dtype=float)
-    knots, node_knot, edge_knot, side = _knots(grid, p_n, edges)
-    values = np.zeros((2, knots.size))
-    values[0, node_knot], values[1, node_knot] = p_n, q
+    knots, values, corrections = representation(grid, p_n, q, edges, boundaries)
     k = knots - grid.centre
     starts, ends = k[:-1], k[1:]
     coeff = np.zeros((1, starts.size, 3))
@@ -99,13 +143,12 @@ def both_signs(
     coeff[0, :, 1] = (values[1, 1:] - values[1, :-1]) / (ends - starts)
     hilbert = line_integrals(flat, np.zeros_like(flat), starts, ends, coeff)[0][:, 0].real
     local = np.stack([np.interp(flat, k, values[0]), np.interp(flat, k, values[1])])
-    for e, s in zip(edge_knot, side, strict=True):  # a handful of contact edges
-        length = abs(k[s] - k[e])
-        orient = 1.0 if s > e else -1.0  # +1: contact right of the edge
-        eta = orient * (flat - k[e]) / length
+    for e, s, amplitude in corrections:  # a handful of kinks
+        orient = 1.0 if s > e else -1.0  # +1: the square root right of the kink
+        eta = orient * (flat - k[e]) / abs(k[s] - k[e])
         v = np.clip(eta, 0.0, 1.0)
-        local += values[:, s, None] * (np.sqrt(v) - v)
-        hilbert += orient * values[1, s] * edge_kernel(eta)
+        local += amplitude[:, None] * (np.sqrt(v) - v)
+        hilbert += orient * amplitude[1] * edge_kernel(eta)
     sigma_zz = local[0].reshape(x.shape)
     out = []
     for sign in signs:
