@@ -20,8 +20,9 @@ stresses peak in square-root cusps that a grid would miss by the square root
 of its distance (the trailing-edge tension of Carter's case read 6 % low at
 0.0025 a). The field-grid indicators (von Mises, Tresca, sigma_1) take the
 larger of both; the surface tension is the samples'. Half-plane surface
-values come from a continuous traction with square-root contact edges
-(:mod:`.surface`), so they do not depend on where the samples fall.
+values come from a continuous traction with square-root contact edges and
+stick/slip boundaries (:mod:`.surface`), so they do not depend on where the
+samples fall.
 
 Scales: a is the mesh's contact scale (the plan's half-width) and p0 the peak
 contact pressure max(-p_n).
