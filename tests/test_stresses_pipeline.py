@@ -202,9 +202,9 @@ def test_grid_sequencing_and_error_estimates_do_not_compute_stresses_twice(monke
     calls = []
     original = compute.compute_stresses
 
-    def counting(case, the_plan, p_n, p_t):
+    def counting(case, the_plan, p_n, p_t, kinks=None):
         calls.append(the_plan.grid.elements)
-        return original(case, the_plan, p_n, p_t)
+        return original(case, the_plan, p_n, p_t, kinks)
 
     monkeypatch.setattr(compute, "compute_stresses", counting)
     aluminium = {"kind": "elastic", "radius": 100.0, "young": 60260.0, "poisson": 0.31}

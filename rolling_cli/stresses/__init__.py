@@ -8,6 +8,8 @@ otherwise), from the converged surface tractions of the same discretisation:
   matrix products), shared by both stress models;
 * :mod:`.halfplane`: exact plane-strain fields of a half-plane under the
   contact grid's element tractions (Flamant integrated per element);
+* :mod:`.surface`: a half-plane's surface stresses from a continuous traction
+  with square-root contact edges (no log singularity at element ends);
 * :mod:`.bem`: interior and boundary stresses of a BEM body from its boundary
   solution (mesh, u, t) by the Somigliana identity, integrated in closed form
   (the solution itself: :func:`rolling_cli.influence.build.boundary_solution`,

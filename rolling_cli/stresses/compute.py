@@ -19,6 +19,13 @@ bodies have no field. The grid: nx points over the potential contact zone plus a
 margin of :data:`MARGIN` of its half-width on each side (inside a layer's top
 face), nz depths from the surface to ``depth`` a (a layer: to its bond line at
 most, which is then the last row).
+
+The surface: besides the field's first row (z = 0), the stresses at the
+surface samples, the contact nodes and the located kinks (contact edges and
+stick/slip boundaries), where the surface stresses peak in square-root cusps.
+A half-plane's surface (that row and the samples) comes from the continuous
+traction of :mod:`.surface`, not from the discontinuous element interpolation,
+whose surface sigma_xx is log-singular at the element ends.
 """
 
 from __future__ import annotations
@@ -30,7 +37,7 @@ import numpy as np
 from .. import materials
 from ..influence import build
 from ..influence.choice import influence_model
-from . import halfplane, invariants
+from . import halfplane, invariants, surface
 
 #: Field margin beyond the potential contact zone, as a fraction of its half-width.
 MARGIN = 0.25
@@ -46,8 +53,10 @@ class BodyStresses:
 
     Arrays: ``x`` (nx,), ``z`` (nz,); (nz, nx) fields ``sigma_xx``, ``sigma_zz``,
     ``tau_xz``, ``sigma_yy``, ``von_mises``, ``tresca``, ``sigma_1``,
-    ``sigma_2``, ``sigma_3``; ``tau_xz_range`` (nz,); ``surface_x``,
-    ``surface_sigma_xx`` on the contact nodes; for a layer ``bond_x``,
+    ``sigma_2``, ``sigma_3``; ``tau_xz_range`` (nz,); ``surface_x`` (the
+    surface samples: the contact nodes and the located contact edges and
+    stick/slip boundaries, increasing), ``surface_sigma_xx``,
+    ``surface_sigma_zz``, ``surface_tau_xz`` there; for a layer ``bond_x``,
     ``bond_sigma_zz``, ``bond_tau_xz`` on the bond-line nodes.
     """
 
@@ -83,21 +92,27 @@ def field_grid(case, the_plan, label: str) -> tuple[np.ndarray, np.ndarray]:
     return grid.centre + np.linspace(-reach, reach, nx), np.linspace(0.0, depth, nz)
 
 
-def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray) -> dict[str, BodyStresses]:
+def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray, kinks=None) -> dict[str, BodyStresses]:
     """Fields of the bodies in ``case.stresses.bodies`` (rigid ones skipped) from the nodal tractions.
 
     ``p_n`` (<= 0 in compression) and ``p_t`` (on body A along +x) [stress] on
-    the plan's contact grid. Half-plane bodies share one evaluation of the
-    integrals (they carry p_n and +-p_t); identical BEM bodies share one
-    factorised boundary system.
+    the plan's contact grid. ``kinks``: (positions [length], kinds) of the
+    solution's contact edges and stick/slip boundaries
+    (:func:`rolling_cli.adapt.kinks.locate_kinks`); without them the contact
+    edges are located from p_n alone. They are surface samples (where the
+    surface stresses have their square-root cusps) and, for half-planes, the
+    ends of the surface's traction representation (:mod:`.surface`).
+    Half-plane bodies share one evaluation of the integrals (they carry p_n
+    and +-p_t); identical BEM bodies share one factorised boundary system.
     """
     labels = [label for label in case.stresses.bodies if model_name(case, label) != "rigid"]
     if not labels:
         return {}
+    samples, edges, boundaries = surface_samples(the_plan.grid, p_n, kinks)
     if influence_model(case)[0] == "half-plane":
-        components = _halfplane(case, the_plan, p_n, p_t, labels)
+        components = _halfplane(case, the_plan, p_n, p_t, labels, samples, (edges, boundaries))
     else:
-        components = _bem(case, the_plan, p_n, p_t, labels)
+        components = _bem(case, the_plan, p_n, p_t, labels, samples)
     out = {}
     for label in labels:
         body = getattr(case.bodies, label)
@@ -110,22 +125,51 @@ def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray) -> dict[s
     return out
 
 
-def _halfplane(case, the_plan, p_n, p_t, labels) -> dict:
+def surface_samples(grid, p_n: np.ndarray, kinks=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The surface samples [length] (contact nodes and kinks inside the zone, increasing), the contact
+    edges and the stick/slip boundaries [length]."""
+    from ..adapt import kinks as locate  # numpy only
+
+    if kinks is None:
+        positions = edges = locate.contact_edges(grid.x, np.asarray(p_n, dtype=float))
+        boundaries = np.empty(0)
+    else:
+        positions, kinds = (np.asarray(v) for v in kinks)
+        edges = positions[kinds == locate.CONTACT_EDGE].astype(float)
+        boundaries = positions[kinds == locate.STICK_SLIP].astype(float)
+    positions = np.asarray(positions, dtype=float)
+    inside = (positions > grid.edges[0]) & (positions < grid.edges[-1])
+    return np.union1d(grid.x, positions[inside]), edges, boundaries
+
+
+def _halfplane(case, the_plan, p_n, p_t, labels, samples, kinks) -> dict:
     grid = the_plan.grid
     signs = [1.0 if label == "A" else -1.0 for label in labels]  # B carries -p_t
     x, z = field_grid(case, the_plan, labels[0])  # the same grid for every half-plane body
-    fields = halfplane.both_signs(grid, p_n, p_t, x[None, :], z[:, None], signs)
-    surfaces = halfplane.both_signs(grid, p_n, p_t, grid.x, np.zeros(1), signs)
-    return {
-        label: ({"x": x, "z": z, "surface_x": grid.x, "surface_sigma_xx": surface[0]}, field)
-        for label, field, surface in zip(labels, fields, surfaces, strict=True)
-    }
+    deep = z > 0.0  # the surface row from the continuous traction (:mod:`.surface`), the rest exact per element
+    below = halfplane.both_signs(grid, p_n, p_t, x[None, :], z[deep, None], signs)
+    edges, boundaries = kinks
+    top = surface.both_signs(grid, p_n, p_t, x, edges, signs, boundaries)
+    at_samples = surface.both_signs(grid, p_n, p_t, samples, edges, signs, boundaries)
+    out = {}
+    for label, deep_rows, row, sample in zip(labels, below, top, at_samples, strict=True):
+        components = []
+        for deeper, on_top in zip(deep_rows, row, strict=True):
+            full = np.empty((z.size, x.size))
+            full[deep], full[~deep] = deeper, on_top
+            components.append(full)
+        arrays = {"x": x, "z": z, **_surface_arrays(samples, *sample)}
+        out[label] = (arrays, tuple(components))
+    return out
 
 
-def _bem(case, the_plan, p_n, p_t, labels) -> dict:
+def _surface_arrays(samples, sigma_xx, sigma_zz, tau_xz) -> dict[str, np.ndarray]:
+    return {"surface_x": samples, "surface_sigma_xx": sigma_xx, "surface_sigma_zz": sigma_zz, "surface_tau_xz": tau_xz}
+
+
+def _bem(case, the_plan, p_n, p_t, labels, samples) -> dict:
     from . import bem  # the BEM package only for BEM bodies (start-up)
 
-    grid = the_plan.grid
     out = {}
     solutions = _boundary_solutions(case, the_plan, p_n, p_t, labels)
     for label in labels:
@@ -134,10 +178,10 @@ def _bem(case, the_plan, p_n, p_t, labels) -> dict:
         shear, nu = materials.shear_modulus(float(body.young), float(body.poisson)), float(body.poisson)
         x, z = field_grid(case, the_plan, label)
         X, Z = np.meshgrid(x, z)
-        points = np.concatenate([np.stack([X.ravel(), -Z.ravel()], axis=1), np.stack([grid.x, 0.0 * grid.x], axis=1)])
-        s = bem.stresses(mesh, u, t, shear, nu, points)  # the field, then the surface at the contact nodes
-        field, surface = s[:, : X.size], s[:, X.size :]
-        arrays = {"x": x, "z": z, "surface_x": grid.x, "surface_sigma_xx": surface[0]}
+        points = np.concatenate([np.stack([X.ravel(), -Z.ravel()], axis=1), np.stack([samples, 0.0 * samples], axis=1)])
+        s = bem.stresses(mesh, u, t, shear, nu, points)  # the field, then the surface samples
+        field, surface_values = s[:, : X.size], s[:, X.size :]
+        arrays = {"x": x, "z": z, **_surface_arrays(samples, surface_values[0], surface_values[1], -surface_values[2])}
         if body.kind == "layered":
             arrays.update(bond_line(mesh, t))
         sxx, syy, sxy = (component.reshape(X.shape) for component in field)

@@ -1,10 +1,17 @@
-"""The ``stresses`` group of a result file: one subgroup per body, ``stresses/A`` and ``stresses/B``.
+"""The ``stresses`` subgroups of a result file: one per body, ``A`` and ``B``, of each case.
+
+In a file they sit under the case's row, ``stresses/case_000000/A`` and
+``stresses/case_000000/B`` (:mod:`rolling_cli.writer`; a single result also
+links ``stresses/A`` and ``stresses/B`` to them); :func:`write_bodies` fills
+one case's group.
 
 Each subgroup holds the coordinates ``x`` and ``z`` (depth below that body's
 surface, z >= 0, the case's length unit) and the (z, x) fields ``sigma_xx``,
 ``sigma_zz``, ``tau_xz``, ``sigma_yy``, ``von_mises``, ``tresca``,
 ``sigma_1``, ``sigma_2``, ``sigma_3``; ``tau_xz_range`` (z); the surface
-stress ``surface_sigma_xx`` at ``surface_x`` (the contact nodes); for a layer
+stresses ``surface_sigma_xx``, ``surface_sigma_zz``, ``surface_tau_xz`` at
+``surface_x`` (the contact nodes and the located contact edges and stick/slip
+boundaries); for a layer
 the bond line ``bond_sigma_zz``, ``bond_tau_xz`` and ``bond_weights`` at
 ``bond_x``. Every dataset has ``units`` and ``long_name``; coordinates are
 HDF5 dimension scales attached to the fields (netCDF-4 readable). The body's
@@ -41,8 +48,22 @@ DATASETS = {
     "sigma_2": ("middle principal stress", "stress", ("z", "x")),
     "sigma_3": ("smallest principal stress", "stress", ("z", "x")),
     "tau_xz_range": ("range of tau_xz over a rolling pass at each depth (max - min along x)", "stress", ("z",)),
-    "surface_x": ("contact node positions on the surface z = 0", "length", ("surface_x",)),
-    "surface_sigma_xx": ("sigma_xx on the surface z = 0 at the contact nodes (tension > 0)", "stress", ("surface_x",)),
+    "surface_x": (
+        "surface samples on z = 0: the contact nodes, the located contact edges and stick/slip boundaries",
+        "length",
+        ("surface_x",),
+    ),
+    "surface_sigma_xx": (
+        "sigma_xx on the surface z = 0 at the surface samples (tension > 0)",
+        "stress",
+        ("surface_x",),
+    ),
+    "surface_sigma_zz": ("sigma_zz = p_n on the surface z = 0 at the surface samples", "stress", ("surface_x",)),
+    "surface_tau_xz": (
+        "tau_xz on the surface z = 0 at the surface samples (this body's frame)",
+        "stress",
+        ("surface_x",),
+    ),
     "bond_x": ("bond-line node positions (the layer's bonded bottom)", "length", ("bond_x",)),
     "bond_sigma_zz": ("normal stress sigma_zz on the bond line (tension > 0)", "stress", ("bond_x",)),
     "bond_tau_xz": ("shear stress tau_xz on the bond line (this body's frame)", "stress", ("bond_x",)),
