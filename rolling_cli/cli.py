@@ -178,7 +178,7 @@ def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, e
     """Solve CASE_FILE and write the result to HDF5."""
 
     def action():
-        from . import outputs
+        from . import blas, outputs
         from .case import load_case
         from .io_hdf5 import write_result
         from .pipeline import solve as run_solve
@@ -191,7 +191,7 @@ def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, e
         if figure:
             outputs.check_output(figure, inputs=(case_file, out), overwrite=overwrite, kind="figure")
         signal.signal(signal.SIGTERM, _terminate)
-        with outputs.claim(out):
+        with outputs.claim(out), blas.command_threads():
             start = time.perf_counter()
             result = run_solve(case, keep_failed=keep_failed, use_cache=not no_cache)
             if error_estimate and result.attributes.get("converged"):

@@ -130,7 +130,10 @@ def _mesh(inputs: dict) -> tuple[bem.BoundaryMesh, ContactGrid]:
 
 
 def _compute_bem(inputs: dict) -> Compliance:
+    from .. import blas
     from . import bem
+
+    blas.settle()  # the BEM's LAPACK (scipy's BLAS, loaded by the import) on the command's threads
 
     mesh, grid = _mesh(inputs)
     return bem.condensed(mesh, grid, inputs["young"], inputs["poisson"])

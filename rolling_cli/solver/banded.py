@@ -26,6 +26,10 @@ class BorderedBandLU:
     def __init__(self, band: np.ndarray, lower: int, upper: int, columns, rows, corner, single: bool = False) -> None:
         from scipy.linalg.lapack import dgbtrf, sgbtrf
 
+        from .. import blas
+
+        blas.settle()  # scipy's BLAS, perhaps loaded just now, on the command's threads
+
         self.lower, self.upper = lower, upper
         self.single = single
         if single:

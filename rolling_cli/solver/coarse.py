@@ -58,6 +58,10 @@ class CoarseCorrection:
     def __init__(self, operator, apply: Callable[[np.ndarray], np.ndarray]) -> None:
         import scipy.linalg
 
+        from .. import blas
+
+        blas.settle()  # scipy's BLAS, perhaps loaded just now, on the command's threads
+
         self.starts, self.traction, self.border, matrix = galerkin(operator, apply)
         self.size = matrix.shape[0]
         self.lu, self.pivots = scipy.linalg.lu_factor(matrix, overwrite_a=True, check_finite=False)

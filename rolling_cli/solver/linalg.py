@@ -53,6 +53,9 @@ def solve_dense(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
         return x
     import scipy.linalg  # lazy: start-up (issue #14 item 1); only large systems use it
 
+    from .. import blas
+
+    blas.settle()  # scipy's BLAS, perhaps loaded just now, on the command's threads
     if matrix.shape[0] >= MIXED_PRECISION_SIZE:
         lu = _factor(matrix.astype(np.float32))
         x = scipy.linalg.lu_solve(lu, rhs.astype(np.float32), check_finite=False).astype(float)
