@@ -165,6 +165,12 @@ def decide(case: Case) -> Effects:
         tangential = True
         notes["tangential"] = f"simulated: {kind} = {value:g}"
 
+    from .model.friction import from_case
+
+    law = from_case(case.friction, case.rolling)
+    notes["friction"] = law.describe(case.units.time, case.units.length)
+    if law.velocity_dependent:
+        notes["friction"] += f" at |V| = {case.rolling.speed:g} {case.units.length}/{case.units.time}"
     notes["normal"] = "simulated: " + ("load" if case.normal.load is not None else "overlap") + " control"
     if not bem:
         rigid = [label for label, body in (("A", a), ("B", b)) if body.rigid]

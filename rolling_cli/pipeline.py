@@ -817,8 +817,15 @@ class _LevelFailed(Exception):
 
 
 def _task(case: Case, the_plan: Plan, system: ContactSystem) -> Task:
+    from .model.friction import slip_friction
+
     return Task(
-        system, case.friction.mu, controls(case, the_plan.effects), case.solver.tolerance, the_plan.effects.strategy
+        system,
+        case.friction.mu,
+        controls(case, the_plan.effects),
+        case.solver.tolerance,
+        the_plan.effects.strategy,
+        slip_friction(case),
     )
 
 
@@ -1010,6 +1017,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "frictional_power_total": power.total(w, dissipation),
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
+    attrs.update(_friction_attributes(case))
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0
@@ -1038,6 +1046,22 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     )
     result.record(**attrs)
     return result
+
+
+def _friction_attributes(case: Case) -> dict:
+    """The velocity-dependent friction law's record (nothing for Coulomb friction, whose files
+    stay as they were): its name, mu_kinetic, the rolling speed and the time unit."""
+    from .model.friction import from_case
+
+    law = from_case(case.friction, case.rolling)
+    if not law.velocity_dependent:
+        return {}
+    return {
+        "friction_law": law.name,
+        "mu_kinetic": float(law.mu_kinetic),
+        "rolling_speed": float(case.rolling.speed),
+        "unit_time": case.units.time,
+    }
 
 
 def _free_creep(case: Case) -> float:
