@@ -1059,7 +1059,7 @@ def _friction_attributes(case: Case) -> dict:
     return {
         "friction_law": law.name,
         "mu_kinetic": float(law.mu_kinetic),
-        "rolling_speed": float(case.rolling.speed),
+        "rolling_speed": float(given(case.rolling.speed, "rolling.speed")),
         "unit_time": case.units.time,
     }
 

@@ -34,7 +34,6 @@ MU_SMALLEST = 1e-6
 MU_LARGEST = 100.0
 
 
-
 def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any) -> Any:
     """A dataclass field with validation rules in its metadata.
 
@@ -104,9 +103,9 @@ class Friction:
     (:mod:`rolling_cli.model.friction`); a velocity law's ``mu`` is set to ``mu_static`` on loading."""
 
     law: str = spec("constant", doc="friction law mu(s_a)", kind="str", choices=FRICTION_LAWS)
-    mu: float | None = spec(
+    mu: float = spec(  # None in a file with a velocity law; set to mu_static on loading (always a float then)
         None,
-        doc="Coulomb friction coefficient (0: frictionless); law = \"constant\" only",
+        doc='Coulomb friction coefficient (0: frictionless); law = "constant" only',
         kind="float",
         ge=0.0,
         zero_or_ge=MU_SMALLEST,

@@ -274,13 +274,14 @@ def _check_friction(case: schema.Case, file: str | None) -> None:
         if getattr(friction, name) is not None:
             use = "mu_static" if name == "mu" else "friction.law = a law that uses it"
             raise _fail(file, f"friction.{name}", getattr(friction, name), f'not used by law = "{law}"', use)
-    if law in ("linear", "rational", "exponential") and friction.mu_kinetic > friction.mu_static:
+    mu_s, mu_k = friction.mu_static, friction.mu_kinetic
+    if law in ("linear", "rational", "exponential") and mu_s is not None and mu_k is not None and mu_k > mu_s:
         raise _fail(
             file,
             "friction.mu_kinetic",
-            friction.mu_kinetic,
-            f'above mu_static = {friction.mu_static:g} (law = "{law}" is a falling law)',
-            f"a number <= friction.mu_static = {friction.mu_static:g}",
+            mu_k,
+            f'above mu_static = {mu_s:g} (law = "{law}" is a falling law)',
+            f"a number <= friction.mu_static = {mu_s:g}",
         )
     if law != "constant" and case.rolling.speed is None:
         raise CaseError(
@@ -295,9 +296,10 @@ def resolved_friction(case: schema.Case) -> schema.Case:
     """The case with a velocity law's ``friction.mu`` set to its mu_static: the scale of Q/(mu P),
     of the traction residuals and of every first guess (the solver's mu(s_a) is
     :mod:`rolling_cli.model.friction`'s)."""
-    if case.friction.law == "constant":
+    mu_static = case.friction.mu_static
+    if case.friction.law == "constant" or mu_static is None:
         return case
-    return dataclasses.replace(case, friction=dataclasses.replace(case.friction, mu=case.friction.mu_static))
+    return dataclasses.replace(case, friction=dataclasses.replace(case.friction, mu=mu_static))
 
 
 def _check_overlap(case: schema.Case, file: str | None) -> None:

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Union
 
 import numpy as np
 
@@ -42,6 +41,11 @@ class Constant:
     @property
     def mu_static(self) -> float:
         """mu at rest [-] (the scale of Q/(mu P))."""
+        return self.coefficient
+
+    @property
+    def mu_kinetic(self) -> float:
+        """mu in sliding [-]: the same."""
         return self.coefficient
 
     def mu(self, s_a) -> np.ndarray:
@@ -154,7 +158,7 @@ class Polach:
         )
 
 
-FrictionLaw = Union[Constant, Linear, Rational, Exponential, Polach]
+FrictionLaw = Constant | Linear | Rational | Exponential | Polach
 
 #: Law names of ``friction.law`` and their classes.
 LAWS = {"constant": Constant, "linear": Linear, "rational": Rational, "exponential": Exponential, "polach": Polach}

@@ -78,6 +78,7 @@ def velocity_system(problem: Problem, state: State, ev: Evaluation) -> VelocityS
     right-hand side; split up, the column bookkeeping would be passed around whole.
     """
     system = problem.system
+    assert problem.friction is not None and ev.slip is not None and ev.capacity is not None
     sets = node_sets(problem, state, ev)
     r_n, r_t, lz, w = system.penalty_n, system.penalty_t, system.zone_length, system.weights
     coupled = problem.mode == "coupled"
@@ -96,7 +97,7 @@ def velocity_system(problem: Problem, state: State, ev: Evaluation) -> VelocityS
     e = system.creep_vector
     h = slip_gain(problem, ev, slip, sets.sigma)
     s_k = ev.slip[slip]
-    held_n = state.p_n if not problem.normal else None  # p_n known (tangential mode)
+    held_n = state.p_n  # the held p_n (tangential mode)
     if problem.normal:  # contact rows: r_n delta_n = 0
         A[:nc, cols_n] = r_n * _block(system.S_nn, contact, contact)
         if system.S_nt is not None:
