@@ -180,6 +180,17 @@ def _settle_cold(case: Case) -> bool:
     return _layered(case) and case.tangential.control()[0] == "creep"
 
 
+def _sequenced_friction(case: Case) -> bool:
+    """A velocity-dependent friction law: its solve starts on coarser grids (grid sequencing)."""
+    return case.friction.law != "constant"
+
+
+def _sequencing_elements(case: Case) -> int:
+    """The smallest grid that is solved after a coarser one (:data:`SEQUENCING_ELEMENTS`,
+    :data:`FRICTION_SEQUENCING_ELEMENTS` with a velocity-dependent friction law)."""
+    return FRICTION_SEQUENCING_ELEMENTS if _sequenced_friction(case) else SEQUENCING_ELEMENTS
+
+
 def first_guess(case: Case, e_star: float, r_star: float) -> float:
     """First estimate of a [length] before any solve.
 
@@ -337,6 +348,12 @@ PRESOLVE_LAYER_ELEMENT = 2.0
 #: down). Decoupled solves start well from Hertz and Carter already:
 #: sequencing them costs more than it saves (benchmarks/RESULTS.md).
 SEQUENCING_ELEMENTS = 240
+#: With a falling friction law the stick zone is smaller than any Coulomb start's, and Newton moves
+#: its boundary a few nodes an iteration (Carter, 200 elements, xi = -0.002: 15 iterations from
+#: Carter's start); from the solution on a quarter of the elements it takes 1 + 4 on the case's grid,
+#: plus 13 cheap ones on the coarse grid: the solve 2.5-5.3x -> 1.8-3.2x the Coulomb one
+#: (benchmarks/bench_friction.py, benchmarks/RESULTS.md).
+FRICTION_SEQUENCING_ELEMENTS = 100
 #: Enlarging the potential zone: factor per step, and the largest zone / a.
 ZONE_GROWTH = 1.5
 ZONE_LIMIT = 8.0
@@ -453,12 +470,12 @@ class MeshPath:
         if (
             self.given is None
             and base.effects.influence == "half-plane"
-            and base.effects.strategy == "coupled"
-            and disc.contact_elements >= SEQUENCING_ELEMENTS
+            and (base.effects.strategy == "coupled" or _sequenced_friction(case))
+            and disc.contact_elements >= _sequencing_elements(case)
         ):
             coarse_elements = []
             elements = disc.contact_elements
-            while elements >= SEQUENCING_ELEMENTS:
+            while elements >= _sequencing_elements(case):
                 elements //= 4
                 coarse_elements.append(elements)
             for elements in reversed(coarse_elements):
@@ -594,6 +611,13 @@ class MeshPath:
             guess = initial_state(level.case, level.plan, self._system(level))
             guess.p_n, guess.overlap = moved.p_n, moved.overlap
             return guess, True, True
+        if previous.kind == "coarse grid" and level.plan.effects.strategy == "decoupled" and hertz_applies(level.case):
+            # a falling friction law's sequence (decoupled): Hertz's pressure is the normal problem's own
+            # start (the coarse one, interpolated, took 4 Newton iterations to settle on 200 elements);
+            # the coarse traction and creepage carry the law's stick zone
+            guess = initial_state(level.case, level.plan, self._system(level))
+            guess.p_t, guess.creep = moved.p_t, moved.creep
+            return guess, True, False
         return moved, False, False
 
     def _warm_start(self, level: Level) -> tuple[State, bool, bool] | None:
