@@ -1041,7 +1041,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "frictional_power_total": power.total(w, dissipation),
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
-    attrs.update(_friction_attributes(case))
+    attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0
@@ -1072,20 +1072,37 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     return result
 
 
-def _friction_attributes(case: Case) -> dict:
+def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
     """The velocity-dependent friction law's record (nothing for Coulomb friction, whose files
-    stay as they were): its name, mu_kinetic, the rolling speed and the time unit."""
+    stay as they were): its name, mu_kinetic, the rolling speed and the time unit; for a solved
+    tangential problem the slope dQ/dxi of the creep-force curve at the solution (node states
+    held: :func:`~rolling_cli.solver.reduced.creep_sensitivity`, d mu/d s_a included) and the
+    branch it puts the point on: "rising" (dQ/dxi < 0: Q grows with |xi|, the stable side of the
+    curve's peak) or "falling"."""
     from .model.friction import from_case
 
     law = from_case(case.friction, case.rolling)
     if not law.velocity_dependent:
         return {}
-    return {
+    out = {
         "friction_law": law.name,
         "mu_kinetic": float(law.mu_kinetic),
         "rolling_speed": float(given(case.rolling.speed, "rolling.speed")),
         "unit_time": case.units.time,
     }
+    if solution is not None and solution.problem.tangential:
+        from .solver import formulation, reduced
+
+        held = solution.problem.held(force=None)
+        state = solution.state
+        try:
+            ev = formulation.evaluate(held, state, formulation.traction_scales(held, state))
+            slope = reduced.creep_sensitivity(held, state, ev)
+        except (np.linalg.LinAlgError, ValueError):  # a singular system: no slope recorded
+            return out
+        out["creep_slope"] = float(slope)
+        out["branch"] = "rising" if slope < 0.0 else "falling"
+    return out
 
 
 def _free_creep(case: Case) -> float:

@@ -56,6 +56,8 @@ def summary(result: Result, output: str | None = None) -> str:
     creep = f"  creepage       xi = {_fmt(attrs['creep'])}"
     if "carter_creep" in attrs:
         creep += f" (Carter: {_fmt(attrs['carter_creep'])})"
+    if attrs.get("branch"):
+        creep += f", {attrs['branch']} branch (dQ/dxi = {_fmt(attrs.get('creep_slope'))} {line})"
     lines.append(creep)
     overlap = attrs.get("overlap", math.nan)
     if not math.isnan(overlap):

@@ -325,3 +325,24 @@ def test_summary_says_q_is_normalised_by_mu_static():
     assert result.friction_law == "exponential" and result.mu_kinetic == 0.18 and result.rolling_speed == SPEED
     plain = summary(solve(case_dict(CARTER, **SMALL)))
     assert "friction: constant mu = 0.1" in plain
+
+
+# --- the branch of the creep-force curve ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("creep, branch", [(-0.001, "rising"), (-0.008, "falling")])
+def test_creep_slope_and_branch_match_finite_differences(creep, branch):
+    """dQ/dxi from the reduced Jacobian (node states held) against the central difference of
+    converged solutions at xi (1 +- 1e-4): with the same node states at both ends Q(xi) is smooth
+    there, and the difference's truncation error (1e-8 relative) and the solves' residuals
+    (1e-10 of mu P over 2e-4 |xi| ~ 1e-6 relative) stay far inside 1e-3. The creep curve's peak
+    (Q/(mu_s P) = 0.71 near xi = -0.0045 for this law) separates the two branches."""
+    results = {
+        step: solve(law_case(CARTER, EXPONENTIAL, **SMALL, **{"tangential.creep": creep * (1 + step)}))
+        for step in (-1e-4, 0.0, 1e-4)
+    }
+    assert np.array_equal(results[-1e-4].state, results[1e-4].state)
+    middle = results[0.0]
+    fd = (results[1e-4].tangential_load - results[-1e-4].tangential_load) / (2e-4 * creep)
+    assert abs(middle.creep_slope - fd) <= 1e-3 * abs(fd)
+    assert middle.branch == branch

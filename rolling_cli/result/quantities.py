@@ -113,6 +113,10 @@ class Friction:
     mu_kinetic: float | None = quantity("kinetic coefficient of friction mu(inf) of the law", "1")
     rolling_speed: float | None = quantity("rolling speed |V|", "length/time")
     unit_time: str | None = text("unit of time")
+    creep_slope: float | None = quantity(
+        "slope dQ/dxi of the creep-force curve at the solution (node states held)", "force/length"
+    )
+    branch: str | None = text('branch of the creep-force curve: "rising" (dQ/dxi < 0, stable) or "falling"')
 
 
 @dataclass(kw_only=True)
