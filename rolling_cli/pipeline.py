@@ -812,6 +812,10 @@ def solve(
     if path.warm:
         result.attributes["start_traction"] = path.start_traction
     result.attributes["iterations_total"] = int(sum(level.iterations for level in path.levels.values()))
+    if case.solver.branch != "auto" and result.converged:
+        from .branches import on_branch
+
+        result = on_branch(case, result)
     return _attach_stresses(final.case, final.plan, result)
 
 
@@ -1029,7 +1033,11 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "contact_elements": the_plan.grid.elements,
         "effects": effects.to_json(),
         "coupling_strength": strength or 0.0,
-        **_linear_solver_attributes(system, history),
+        **(
+            {"linear_solver": "dense LU"}  # solver/velocity.py: the slip rows' LU on every system
+            if case.friction.law != "constant" and effects.tangential
+            else _linear_solver_attributes(system, history)
+        ),
         "effects_line": effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,

@@ -88,6 +88,7 @@ def test_polach_is_the_exponential_law():
         ({"rolling.speed": None}, "rolling.speed"),  # a velocity law without the speed
         ({"friction.mu": 0.3}, "friction.mu"),  # mu is the constant law's key
         ({"friction.polach_a": 0.5}, "friction.polach_a"),  # not a key of the exponential law
+        ({"solver.branch": "high-slip", "tangential.creep": -1e-3}, "solver.branch"),  # under creep control
     ],
 )
 def test_bad_friction_input_is_one_line_exit_2(tmp_path, change, key):
@@ -296,7 +297,11 @@ def test_contact_laws_hold_with_mu_of_slip_speed(data):
     the bound the residual gives: |F_t| and mu_s |F_n| are at most tol * mu_s s_n (s_n = max|p_n|, tol
     the relative tolerance every stage met), so the friction bound holds to 2 tol mu_s s_n and the
     normal laws to tol s_n (F_n = p_n or -r_n delta_n by the node's state)."""
-    result = solve(data)
+    assert_contact_laws_with_law(solve(data))
+
+
+def assert_contact_laws_with_law(result) -> None:
+    """The contact laws with mu(s_a) at every node (see the test above for the bounds)."""
     assert result.converged
     law = friction.from_case(result.case.friction, result.case.rolling)
     s_n = result.traction_scale
@@ -346,3 +351,34 @@ def test_creep_slope_and_branch_match_finite_differences(creep, branch):
     fd = (results[1e-4].tangential_load - results[-1e-4].tangential_load) / (2e-4 * creep)
     assert abs(middle.creep_slope - fd) <= 1e-3 * abs(fd)
     assert middle.branch == branch
+
+
+# --- two steady solutions for one force ------------------------------------------------------------
+
+
+def test_both_solutions_of_one_force_are_found_and_hold_the_laws():
+    """Q/(mu_s P) = 0.65 lies below the curve's peak (0.71): one solution on each side of it. Each is
+    force-controlled (Q met to the tolerance), satisfies the contact laws with mu(s_a), and sits on
+    its branch by the sign of dQ/dxi; the high-slip one at the larger |xi|, and each result names the
+    other's creepage."""
+    data = law_case(CARTER, EXPONENTIAL, **SMALL, **{"tangential.q_over_mu_p": 0.65})
+    low = solve(case_dict(data, **{"solver.branch": "low-slip"}))
+    high = solve(case_dict(data, **{"solver.branch": "high-slip"}))
+    for result in (low, high):
+        assert_contact_laws_with_law(result)
+        bound = result.tolerance_applied * result.traction_scale * float(result.weights.sum())
+        assert abs(result.tangential_load - 0.65 * 0.30 * result.normal_load) <= bound
+    assert low.branch == "rising" and low.creep_slope < 0.0
+    assert high.branch == "falling" and high.creep_slope > 0.0
+    assert abs(high.creep) > 1.5 * abs(low.creep)
+    assert high.other_branch_creep == pytest.approx(low.creep, rel=1e-8)
+    assert "two steady solutions" in high.branch_note
+
+
+def test_a_branch_that_does_not_carry_the_force_is_reported():
+    """mu_k = 0.29 of mu_s = 0.30: the falling branch levels off near Q/(mu_s P) = 0.97, far above 0.5:
+    no high-slip solution; the error says so and names the smallest |Q| met on that branch."""
+    law = {**EXPONENTIAL, "mu_kinetic": 0.29}
+    data = law_case(CARTER, law, **SMALL, **{"tangential.q_over_mu_p": 0.5, "solver.branch": "high-slip"})
+    with pytest.raises(rolling_cli.errors.ConvergenceError, match="no steady solution with .* on the high-slip"):
+        solve(data)

@@ -223,6 +223,12 @@ class Solver:
     tolerance: float = spec(1e-10, doc="relative residual tolerance", kind="float", ge=1e-14, le=1e-3)
     max_iterations: int = spec(100, doc="Newton iteration cap", kind="int", ge=1, le=100000)
     penalty: Any = spec("auto", doc='penalty r_t [stress] or "auto"', kind="float_or_auto", ge=SMALLEST, le=LARGEST)
+    branch: str = spec(
+        "auto",
+        doc="creep-force branch of a force-controlled solve with a falling friction law",
+        kind="str",
+        choices=("auto", "low-slip", "high-slip"),
+    )
 
 
 @dataclass(frozen=True)

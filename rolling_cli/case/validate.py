@@ -283,6 +283,15 @@ def _check_friction(case: schema.Case, file: str | None) -> None:
             f'above mu_static = {mu_s:g} (law = "{law}" is a falling law)',
             f"a number <= friction.mu_static = {mu_s:g}",
         )
+    branch = case.solver.branch
+    if branch != "auto" and (law == "constant" or case.tangential.control()[0] == "creep"):
+        raise _fail(
+            file,
+            "solver.branch",
+            branch,
+            "a branch is chosen only under force control with a velocity-dependent friction law",
+            '"auto"',
+        )
     if law != "constant" and case.rolling.speed is None:
         raise CaseError(
             f'rolling.speed: missing key (friction.law = "{law}" needs the rolling speed |V|); '

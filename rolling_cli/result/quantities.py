@@ -117,6 +117,10 @@ class Friction:
         "slope dQ/dxi of the creep-force curve at the solution (node states held)", "force/length"
     )
     branch: str | None = text('branch of the creep-force curve: "rising" (dQ/dxi < 0, stable) or "falling"')
+    other_branch_creep: float | None = quantity(
+        "creepage of the other steady solution for the same force (solver.branch chose this one)", "1"
+    )
+    branch_note: str | None = text("the steady solutions of the prescribed force and the one chosen")
 
 
 @dataclass(kw_only=True)

@@ -394,7 +394,14 @@ def node_sets(problem: Problem, state: State, ev: Evaluation) -> NodeSets:
     if problem.normal and ev.gap is not None and not contact.any():
         contact[nearest_contact(state.p_n, ev.gap, system.penalty_n)] = True
     stick = ev.stick & contact
-    if problem.creep_unknown and ev.slip_margin is not None and contact.any() and not stick.any():
+    # (a velocity-dependent law keeps the creepage in the full-slip rows through d mu/d s: no safeguard)
+    if (
+        problem.creep_unknown
+        and problem.friction is None
+        and ev.slip_margin is not None
+        and contact.any()
+        and not stick.any()
+    ):
         target, _ = problem.force_target(state.p_n)
         full_slip = float(system.weights @ (ev.sigma * ev.friction_bound))
         stick = full_slip_safeguard(contact, ev.slip_margin, ev.friction_bound, system.weights, abs(target - full_slip))

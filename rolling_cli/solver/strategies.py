@@ -165,7 +165,9 @@ def _nonlinear(problem: Problem, scales: formulation.Scales) -> NonlinearSystem:
             "contact": int(ev.contact.sum()),
             "stick": int(ev.stick.sum()),
             "edge": bool(ev.contact[0] or ev.contact[-1]),
-            "linear_solver": problem.system.linear_solver,
+            "linear_solver": "dense LU"
+            if problem.friction is not None and problem.tangential
+            else problem.system.linear_solver,
         }
 
     return NonlinearSystem(evaluate, step, describe, lambda: dict(linear))
