@@ -55,7 +55,7 @@ def summary(result: Result, output: str | None = None) -> str:
     )
     creep = f"  creepage       xi = {_fmt(attrs['creep'])}"
     if "carter_creep" in attrs:
-        creep += f" (Carter: {_fmt(attrs['carter_creep'])})"
+        creep += f" (Carter{' with mu_static' if attrs.get('friction_law') else ''}: {_fmt(attrs['carter_creep'])})"
     if attrs.get("branch"):
         creep += f", {attrs['branch']} branch (dQ/dxi = {_fmt(attrs.get('creep_slope'))} {line})"
     lines.append(creep)
