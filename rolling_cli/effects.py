@@ -184,6 +184,12 @@ def decide(case: Case) -> Effects:
                 kind = "BEM layer on a rigid core" if body.kind == "layered" else "BEM half-space"
                 notes[f"influence {label}"] = f"simulated: {kind}"
 
+    from .model.friction import from_case
+
+    law = from_case(case.friction, case.rolling)
+    notes["friction"] = law.describe(case.units.time, case.units.length)
+    if law.velocity_dependent:
+        notes["friction"] += f" at |V| = {case.rolling.speed:g} {case.units.length}/{case.units.time}"
     if case.stresses is None:
         notes["stresses"] = "skipped: not requested (no [stresses] table)"
     else:

@@ -180,6 +180,17 @@ def _settle_cold(case: Case) -> bool:
     return _layered(case) and case.tangential.control()[0] == "creep"
 
 
+def _sequenced_friction(case: Case) -> bool:
+    """A velocity-dependent friction law: its solve starts on coarser grids (grid sequencing)."""
+    return case.friction.law != "constant"
+
+
+def _sequencing_elements(case: Case) -> int:
+    """The smallest grid that is solved after a coarser one (:data:`SEQUENCING_ELEMENTS`,
+    :data:`FRICTION_SEQUENCING_ELEMENTS` with a velocity-dependent friction law)."""
+    return FRICTION_SEQUENCING_ELEMENTS if _sequenced_friction(case) else SEQUENCING_ELEMENTS
+
+
 def first_guess(case: Case, e_star: float, r_star: float) -> float:
     """First estimate of a [length] before any solve.
 
@@ -337,6 +348,12 @@ PRESOLVE_LAYER_ELEMENT = 2.0
 #: down). Decoupled solves start well from Hertz and Carter already:
 #: sequencing them costs more than it saves (benchmarks/RESULTS.md).
 SEQUENCING_ELEMENTS = 240
+#: With a falling friction law the stick zone is smaller than any Coulomb start's, and Newton moves
+#: its boundary a few nodes an iteration (Carter, 200 elements, xi = -0.002: 15 iterations from
+#: Carter's start); from the solution on a quarter of the elements it takes 1 + 4 on the case's grid,
+#: plus 13 cheap ones on the coarse grid: the solve 2.5-5.3x -> 1.8-3.2x the Coulomb one
+#: (benchmarks/bench_friction.py, benchmarks/RESULTS.md).
+FRICTION_SEQUENCING_ELEMENTS = 100
 #: Enlarging the potential zone: factor per step, and the largest zone / a.
 ZONE_GROWTH = 1.5
 ZONE_LIMIT = 8.0
@@ -453,12 +470,12 @@ class MeshPath:
         if (
             self.given is None
             and base.effects.influence == "half-plane"
-            and base.effects.strategy == "coupled"
-            and disc.contact_elements >= SEQUENCING_ELEMENTS
+            and (base.effects.strategy == "coupled" or _sequenced_friction(case))
+            and disc.contact_elements >= _sequencing_elements(case)
         ):
             coarse_elements = []
             elements = disc.contact_elements
-            while elements >= SEQUENCING_ELEMENTS:
+            while elements >= _sequencing_elements(case):
                 elements //= 4
                 coarse_elements.append(elements)
             for elements in reversed(coarse_elements):
@@ -594,6 +611,13 @@ class MeshPath:
             guess = initial_state(level.case, level.plan, self._system(level))
             guess.p_n, guess.overlap = moved.p_n, moved.overlap
             return guess, True, True
+        if previous.kind == "coarse grid" and level.plan.effects.strategy == "decoupled" and hertz_applies(level.case):
+            # a falling friction law's sequence (decoupled): Hertz's pressure is the normal problem's own
+            # start (the coarse one, interpolated, took 4 Newton iterations to settle on 200 elements);
+            # the coarse traction and creepage carry the law's stick zone
+            guess = initial_state(level.case, level.plan, self._system(level))
+            guess.p_t, guess.creep = moved.p_t, moved.creep
+            return guess, True, False
         return moved, False, False
 
     def _warm_start(self, level: Level) -> tuple[State, bool, bool] | None:
@@ -788,6 +812,10 @@ def solve(
     if path.warm:
         result.attributes["start_traction"] = path.start_traction
     result.attributes["iterations_total"] = int(sum(level.iterations for level in path.levels.values()))
+    if case.solver.branch != "auto" and result.converged:
+        from .branches import on_branch
+
+        result = on_branch(case, result)
     return _attach_stresses(final.case, final.plan, result)
 
 
@@ -817,8 +845,15 @@ class _LevelFailed(Exception):
 
 
 def _task(case: Case, the_plan: Plan, system: ContactSystem) -> Task:
+    from .model.friction import slip_friction
+
     return Task(
-        system, case.friction.mu, controls(case, the_plan.effects), case.solver.tolerance, the_plan.effects.strategy
+        system,
+        case.friction.mu,
+        controls(case, the_plan.effects),
+        case.solver.tolerance,
+        the_plan.effects.strategy,
+        slip_friction(case),
     )
 
 
@@ -998,7 +1033,11 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "contact_elements": the_plan.grid.elements,
         "effects": effects.to_json(),
         "coupling_strength": strength or 0.0,
-        **_linear_solver_attributes(system, history),
+        **(
+            {"linear_solver": "dense LU"}  # solver/velocity.py: the slip rows' LU on every system
+            if case.friction.law != "constant" and effects.tangential
+            else _linear_solver_attributes(system, history)
+        ),
         "effects_line": effects.line(),
         "unit_length": case.units.length,
         "unit_stress": case.units.stress,
@@ -1010,6 +1049,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "frictional_power_total": power.total(w, dissipation),
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
+    attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0
@@ -1038,6 +1078,39 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     )
     result.record(**attrs)
     return result
+
+
+def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
+    """The velocity-dependent friction law's record (nothing for Coulomb friction, whose files
+    stay as they were): its name, mu_kinetic, the rolling speed and the time unit; for a solved
+    tangential problem the slope dQ/dxi of the creep-force curve at the solution (node states
+    held: :func:`~rolling_cli.solver.reduced.creep_sensitivity`, d mu/d s_a included) and the
+    branch it puts the point on: "rising" (dQ/dxi < 0: Q grows with |xi|, the stable side of the
+    curve's peak) or "falling"."""
+    from .model.friction import from_case
+
+    law = from_case(case.friction, case.rolling)
+    if not law.velocity_dependent:
+        return {}
+    out = {
+        "friction_law": law.name,
+        "mu_kinetic": float(law.mu_kinetic),
+        "rolling_speed": float(given(case.rolling.speed, "rolling.speed")),
+        "unit_time": case.units.time,
+    }
+    if solution is not None and solution.problem.tangential:
+        from .solver import formulation, reduced
+
+        held = solution.problem.held(force=None)
+        state = solution.state
+        try:
+            ev = formulation.evaluate(held, state, formulation.traction_scales(held, state))
+            slope = reduced.creep_sensitivity(held, state, ev)
+        except (np.linalg.LinAlgError, ValueError):  # a singular system: no slope recorded
+            return out
+        out["creep_slope"] = float(slope)
+        out["branch"] = "rising" if slope < 0.0 else "falling"
+    return out
 
 
 def _free_creep(case: Case) -> float:

@@ -46,11 +46,18 @@ def summary(result: Result, output: str | None = None) -> str:
         lines.append(f"  WARNING        {warning}")
     lines.append(
         f"  loads          P = {_fmt(attrs['normal_load'])} {line}, Q = {_fmt(attrs['tangential_load'])} {line}, "
-        f"Q/(mu P) = {_fmt(attrs.get('q_over_mu_p'), 5)} (mu = {_fmt(attrs['mu'])})"
+        f"Q/(mu P) = {_fmt(attrs.get('q_over_mu_p'), 5)} "
+        + (
+            f"(mu = mu_static = {_fmt(attrs['mu'])}, {attrs['friction_law']} law)"
+            if attrs.get("friction_law")
+            else f"(mu = {_fmt(attrs['mu'])})"
+        )
     )
     creep = f"  creepage       xi = {_fmt(attrs['creep'])}"
     if "carter_creep" in attrs:
-        creep += f" (Carter: {_fmt(attrs['carter_creep'])})"
+        creep += f" (Carter{' with mu_static' if attrs.get('friction_law') else ''}: {_fmt(attrs['carter_creep'])})"
+    if attrs.get("branch"):
+        creep += f", {attrs['branch']} branch (dQ/dxi = {_fmt(attrs.get('creep_slope'))} {line})"
     lines.append(creep)
     overlap = attrs.get("overlap", math.nan)
     if not math.isnan(overlap):

@@ -329,7 +329,7 @@ def difference(attrs: dict, base_toml: str, spec: SweepSpec, warm: bool) -> str 
     version = attrs.get("format_version", 1)
     if version != FORMAT_VERSION:
         return f"the file has format version {version}, this rollc writes {FORMAT_VERSION}"
-    recorded = tomllib.loads(attrs.get("case", ""))
+    recorded = _with_defaults(tomllib.loads(attrs.get("case", "")))
     now = tomllib.loads(base_toml)
     for key, (a, b) in _first_difference(recorded, now).items():
         return f"the base case differs at {key}: file {a!r}, now {b!r}"
@@ -349,6 +349,19 @@ def difference(attrs: dict, base_toml: str, spec: SweepSpec, warm: bool) -> str 
         was = "on" if attrs.get("warm_start", 1) else "off"
         return f"warm starts differ: file {was}, now {'on' if warm else 'off'}"
     return None
+
+
+def _with_defaults(data: dict) -> dict:
+    """A recorded case with the keys this rollc's schema adds at their defaults (a file written
+    before ``friction.law`` existed is the same sweep); the record as it is if it no longer validates."""
+    import tomllib
+
+    from .case.io import case_from_dict, case_to_toml
+
+    try:
+        return tomllib.loads(case_to_toml(case_from_dict(data, None)))
+    except CaseError:
+        return data
 
 
 def _short(values) -> str:

@@ -13,7 +13,7 @@ import tomli_w
 
 from ..errors import CaseError
 from . import schema
-from .validate import build, check_consistency
+from .validate import build, check_consistency, resolved_friction
 
 #: Largest case file read [bytes]. A case is a few hundred bytes; the cap keeps
 #: a wrong path (a log, an image, a device) from being read into memory.
@@ -123,7 +123,7 @@ def case_from_dict(data: dict, file: str | None) -> schema.Case:
     data = {k: v for k, v in data.items() if k != "sweep"}
     case = build(schema.Case, data, "", file)
     check_consistency(case, file)
-    return dataclasses.replace(case, source=file)
+    return dataclasses.replace(resolved_friction(case), source=file)
 
 
 def case_to_dict(case: schema.Case) -> dict:
@@ -141,7 +141,10 @@ def case_to_dict(case: schema.Case) -> dict:
             return out
         return obj
 
-    return convert(case)
+    out = convert(case)
+    if out.get("friction", {}).get("law", "constant") != "constant":
+        out["friction"].pop("mu", None)  # set from mu_static on loading (validate.resolved_friction)
+    return out
 
 
 def case_to_toml(case: schema.Case, extra: dict | None = None) -> str:

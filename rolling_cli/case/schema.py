@@ -34,7 +34,6 @@ MU_SMALLEST = 1e-6
 MU_LARGEST = 100.0
 
 
-
 def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any) -> Any:
     """A dataclass field with validation rules in its metadata.
 
@@ -94,17 +93,53 @@ class Bodies:
     B: Body = spec(None, doc="lower cylinder", kind="table", required=True)
 
 
+#: ``friction.law`` values: Coulomb (constant) and CONTACT's slip-velocity laws (:mod:`rolling_cli.model.friction`).
+FRICTION_LAWS = ("constant", "linear", "rational", "exponential", "polach")
+
+
 @dataclass(frozen=True)
 class Friction:
-    mu: float = spec(
+    """Coulomb friction (``mu``) or a law mu(s_a) of the slip speed s_a = |V| |s_t|
+    (:mod:`rolling_cli.model.friction`); a velocity law's ``mu`` is set to ``mu_static`` on loading."""
+
+    law: str = spec("constant", doc="friction law mu(s_a)", kind="str", choices=FRICTION_LAWS)
+    mu: float = spec(  # None in a file with a velocity law; set to mu_static on loading (always a float then)
         None,
-        doc="Coulomb friction coefficient (0: frictionless)",
+        doc='Coulomb friction coefficient (0: frictionless); law = "constant" only',
         kind="float",
         ge=0.0,
         zero_or_ge=MU_SMALLEST,
         le=MU_LARGEST,
-        required=True,
     )
+    mu_static: float | None = spec(
+        None, doc="mu at rest, mu(0) (velocity laws)", kind="float", ge=MU_SMALLEST, le=MU_LARGEST
+    )
+    mu_kinetic: float | None = spec(
+        None,
+        doc="mu at high slip speed, mu(inf) (linear, rational, exponential; <= mu_static)",
+        kind="float",
+        ge=MU_SMALLEST,
+        le=MU_LARGEST,
+    )
+    slip_velocity_half: float | None = spec(
+        None,
+        doc="s_h: slip speed halving mu - mu_kinetic [length/time] (linear, rational, exponential)",
+        kind="float",
+        gt=0.0,
+        le=LARGEST,
+    )
+    polach_a: float | None = spec(None, doc="Polach's A = mu(inf)/mu_static (polach)", kind="float", gt=0.0, le=1.0)
+    polach_b: float | None = spec(None, doc="Polach's B [time/length] (polach)", kind="float", ge=0.0, le=LARGEST)
+
+
+#: The keys each velocity law needs (``mu`` belongs to the constant law alone).
+LAW_KEYS = {
+    "constant": ("mu",),
+    "linear": ("mu_static", "mu_kinetic", "slip_velocity_half"),
+    "rational": ("mu_static", "mu_kinetic", "slip_velocity_half"),
+    "exponential": ("mu_static", "mu_kinetic", "slip_velocity_half"),
+    "polach": ("mu_static", "polach_a", "polach_b"),
+}
 
 
 @dataclass(frozen=True)
@@ -140,6 +175,9 @@ class Tangential:
 @dataclass(frozen=True)
 class Rolling:
     direction: int = spec(-1, doc="sign of the rolling speed V (the paper uses V < 0)", kind="int", choices=(-1, 1))
+    speed: float | None = spec(
+        None, doc="|V| [length/time] (needed by a velocity-dependent friction law)", kind="float", gt=0.0, le=LARGEST
+    )
 
 
 @dataclass(frozen=True)
@@ -185,6 +223,12 @@ class Solver:
     tolerance: float = spec(1e-10, doc="relative residual tolerance", kind="float", ge=1e-14, le=1e-3)
     max_iterations: int = spec(100, doc="Newton iteration cap", kind="int", ge=1, le=100000)
     penalty: Any = spec("auto", doc='penalty r_t [stress] or "auto"', kind="float_or_auto", ge=SMALLEST, le=LARGEST)
+    branch: str = spec(
+        "auto",
+        doc="creep-force branch of a force-controlled solve with a falling friction law",
+        kind="str",
+        choices=("auto", "low-slip", "high-slip"),
+    )
 
 
 @dataclass(frozen=True)
@@ -237,6 +281,7 @@ class Stresses:
 class Units:
     length: str = spec("mm", doc="length unit name (labels only)", kind="str", max_length=40)
     force: str = spec("N", doc="force unit name (labels only)", kind="str", max_length=40)
+    time: str = spec("s", doc="time unit name (labels only: speeds are length/time)", kind="str", max_length=40)
 
     @property
     def stress(self) -> str:

@@ -251,10 +251,64 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
             f"the BEM model ({why}) uses quadratic elements",
             '"quadratic"',
         )
-    mu = case.friction.mu
+    _check_friction(case, file)
+    mu = case.friction.mu if case.friction.law == "constant" else case.friction.mu_static
     kind, value = case.tangential.control()
     if kind == "q_over_mu_p" and mu == 0.0:
         raise _fail(file, "tangential.q_over_mu_p", value, "undefined for friction.mu = 0", "tangential.load or creep")
+
+
+def _check_friction(case: schema.Case, file: str | None) -> None:
+    """The keys of the friction law and nothing else; a falling law (mu_kinetic <= mu_static);
+    a velocity law needs rolling.speed."""
+    friction = case.friction
+    law = friction.law
+    needed = schema.LAW_KEYS[law]
+    for name in needed:
+        if getattr(friction, name) is None:
+            allowed = _allowed(_meta(schema.Friction, name))
+            raise CaseError(
+                f'friction.{name}: missing key (law = "{law}"); allowed: {allowed}', file=file, key=f"friction.{name}"
+            )
+    for name in {n for keys in schema.LAW_KEYS.values() for n in keys} - set(needed):
+        if getattr(friction, name) is not None:
+            use = "mu_static" if name == "mu" else "friction.law = a law that uses it"
+            raise _fail(file, f"friction.{name}", getattr(friction, name), f'not used by law = "{law}"', use)
+    mu_s, mu_k = friction.mu_static, friction.mu_kinetic
+    if law in ("linear", "rational", "exponential") and mu_s is not None and mu_k is not None and mu_k > mu_s:
+        raise _fail(
+            file,
+            "friction.mu_kinetic",
+            mu_k,
+            f'above mu_static = {mu_s:g} (law = "{law}" is a falling law)',
+            f"a number <= friction.mu_static = {mu_s:g}",
+        )
+    branch = case.solver.branch
+    if branch != "auto" and (law == "constant" or case.tangential.control()[0] == "creep"):
+        raise _fail(
+            file,
+            "solver.branch",
+            branch,
+            "a branch is chosen only under force control with a velocity-dependent friction law",
+            '"auto"',
+        )
+    if law != "constant" and case.rolling.speed is None:
+        raise CaseError(
+            f'rolling.speed: missing key (friction.law = "{law}" needs the rolling speed |V|); '
+            "allowed: a number > 0 [length/time]",
+            file=file,
+            key="rolling.speed",
+        )
+
+
+def resolved_friction(case: schema.Case) -> schema.Case:
+    """The case with a velocity law's ``friction.mu`` set to its mu_static: the scale of Q/(mu P),
+    of the traction residuals and of every first guess (the solver's mu(s_a) is
+    :mod:`rolling_cli.model.friction`'s)."""
+    mu_static = case.friction.mu_static
+    if case.friction.law == "constant" or mu_static is None:
+        return case
+    return dataclasses.replace(case, friction=dataclasses.replace(case.friction, mu=mu_static))
 
 
 def _check_overlap(case: schema.Case, file: str | None) -> None:

@@ -20,6 +20,7 @@ from .quantities import (
     Contact,
     Convergence,
     ErrorEstimate,
+    Friction,
     Loads,
     Model,
     Provenance,
@@ -91,7 +92,7 @@ class ScalarView(MutableMapping):
 
 
 @dataclass
-class Result(Provenance, Convergence, Loads, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima):
+class Result(Provenance, Convergence, Loads, Friction, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima):
     """Arrays over the n contact nodes and the solve's declared scalars.
 
     Arrays: ``x``, ``weights`` [length]; ``p_n``, ``p_t`` [stress];
@@ -148,11 +149,12 @@ class Result(Provenance, Convergence, Loads, Contact, Model, Timings, Adaptive, 
 
     @property
     def units(self) -> dict[str, str]:
-        """Unit names for "length", "stress", "force/length" and "1"."""
+        """Unit names for "length", "stress", "force/length", "length/time" and "1"."""
         return {
             "length": self.unit_length or "length",
             "stress": self.unit_stress or "stress",
             "force/length": self.unit_line_force or "force/length",
+            "length/time": f"{self.unit_length or 'length'}/{self.unit_time or 'time'}",
             "1": "1",
         }
 

@@ -10,7 +10,7 @@ the writer leaves it out, as a file leaves out a variable); a result read from
 a file has the quantities that file recorded.
 
 Units are keys into the result's unit names (:attr:`Result.units`):
-``"length"``, ``"stress"``, ``"force/length"``, ``"stress/length"``, ``"1"``
+``"length"``, ``"stress"``, ``"force/length"``, ``"stress/length"``, ``"length/time"``, ``"1"``
 (dimensionless: ratios, counts, flags, relative values), ``"s"`` (wall time);
 ``None`` for text and booleans, which carry no unit.
 """
@@ -24,7 +24,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 #: Unit keys a quantity may have (module docstring).
-UNIT_KEYS = ("length", "stress", "force/length", "stress/length", "1", "s", None)
+UNIT_KEYS = ("length", "stress", "force/length", "stress/length", "length/time", "1", "s", None)
 
 
 class Quantity(NamedTuple):
@@ -91,16 +91,36 @@ class Loads:
     tangential_load: float | None = quantity(
         "tangential load Q = sum w p_t on body A per unit axial length", "force/length"
     )
-    q_over_mu_p: float | None = quantity("Q/(mu P)", "1")
+    q_over_mu_p: float | None = quantity("Q/(mu P) (mu: mu_static of a velocity-dependent law)", "1")
     creep: float | None = quantity("creepage xi = (V_A - V_B)/|V|", "1")
     overlap: float | None = quantity("rigid overlap (NaN where undefined)", "length")
     solved_overlap: float | None = quantity("overlap unknown of the solve (the half-plane's free constant)", "length")
-    mu: float | None = quantity("coefficient of friction", "1")
+    mu: float | None = quantity("coefficient of friction (mu_static of a velocity-dependent law)", "1")
     direction: int | None = count("sign of the rolling velocity V (-1 where the case failed before solving)")
     carter_creep: float | None = quantity("Carter's creepage for the solved Q/(mu P)", "1")
     frictional_power_total: float | None = quantity(
         "frictional power per unit rolling speed and axial length, sum w (-p_t s_t)", "force/length"
     )
+
+
+@dataclass(kw_only=True)
+class Friction:
+    """A velocity-dependent friction law (:mod:`rolling_cli.model.friction`); not recorded for
+    Coulomb friction, whose ``mu`` says it all. ``mu`` is then the law's mu_static, the scale of
+    Q/(mu P)."""
+
+    friction_law: str | None = text("friction law mu(s_a) of the slip speed s_a = |V| |s_t|")
+    mu_kinetic: float | None = quantity("kinetic coefficient of friction mu(inf) of the law", "1")
+    rolling_speed: float | None = quantity("rolling speed |V|", "length/time")
+    unit_time: str | None = text("unit of time")
+    creep_slope: float | None = quantity(
+        "slope dQ/dxi of the creep-force curve at the solution (node states held)", "force/length"
+    )
+    branch: str | None = text('branch of the creep-force curve: "rising" (dQ/dxi < 0, stable) or "falling"')
+    other_branch_creep: float | None = quantity(
+        "creepage of the other steady solution for the same force (solver.branch chose this one)", "1"
+    )
+    branch_note: str | None = text("the steady solutions of the prescribed force and the one chosen")
 
 
 @dataclass(kw_only=True)
@@ -222,7 +242,7 @@ class StressMaxima:
 
 
 #: The groups, in the order the file lists their variables.
-GROUPS = (Provenance, Convergence, Loads, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima)
+GROUPS = (Provenance, Convergence, Loads, Friction, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima)
 
 
 def declared() -> dict[str, Quantity]:

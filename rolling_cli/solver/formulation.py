@@ -39,10 +39,14 @@ from __future__ import annotations
 import dataclasses
 import weakref
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..system import ContactSystem, abs_row_sum_max
+
+if TYPE_CHECKING:
+    from ..model.friction import SlipFriction
 
 MODES = ("coupled", "normal", "tangential")
 
@@ -80,7 +84,10 @@ class Problem:
     prescribed P [force/length] (the overlap is then unknown) or ``None`` (the
     overlap is held at the state's value); ``force``: (kind, value) with kind
     "load" (Q [force/length]), "q_over_p" or "q_over_mu_p" makes the creepage
-    unknown with the equation sum w p_t = Q_target, or ``None`` (creepage held).
+    unknown with the equation sum w p_t = Q_target, or ``None`` (creepage held);
+    ``friction``: a velocity-dependent law (the friction bound is then mu(s_a) |p_n| and ``mu``
+    its mu_static, the scale of the residuals and of Q/(mu P); :mod:`rolling_cli.solver.velocity`),
+    or ``None`` for Coulomb friction with ``mu``.
     """
 
     system: ContactSystem
@@ -88,6 +95,7 @@ class Problem:
     mu: float
     load: float | None = None
     force: tuple[str, float] | None = None
+    friction: SlipFriction | None = None
 
     def __post_init__(self) -> None:
         if self.mode not in MODES:
@@ -174,7 +182,8 @@ def traction_scales(problem: Problem, state: State) -> Scales:
 @dataclass
 class Evaluation:
     """Residual rows [stress] and node states at one iterate (``gap`` only when p_n is unknown,
-    ``slip`` only when p_t is)."""
+    ``slip`` only when p_t is; ``capacity`` -min(0, p_n + r_n delta_n) [stress], of which the friction
+    bound is mu(s_a) times, only with a velocity-dependent law)."""
 
     F_n: np.ndarray
     F_t: np.ndarray
@@ -188,6 +197,7 @@ class Evaluation:
     slip: np.ndarray | None
     scales: Scales
     slip_margin: np.ndarray | None = None
+    capacity: np.ndarray | None = None
 
     @property
     def merit(self) -> float:
@@ -354,12 +364,20 @@ def evaluate(problem: Problem, state: State, scales: Scales, cold: bool = False)
         lam_ref = state.p_n + system.reference_penalty_n * gap
         F_n = state.p_n - np.minimum(0.0, lam_ref)
         bound_ref = -mu * np.minimum(0.0, lam_ref)
+        lam_bound = state.p_n if cold else lam_n
     else:
         contact = contact_from_pressure(state.p_n)
         F_n = np.zeros_like(state.p_n)
         bound = bound_ref = -mu * np.minimum(0.0, state.p_n)
+        lam_bound = lam_ref = state.p_n
+    capacity = None
     if problem.tangential:
         slip_t = system.slip(state.p_n, state.p_t, state.creep)
+        if problem.friction is not None:  # the bound mu(s_a) |lambda_n| at this iterate's slip
+            mu_nodes = problem.friction.at(slip_t)[0]
+            capacity = -np.minimum(0.0, lam_bound)
+            bound = mu_nodes * capacity
+            bound_ref = -mu_nodes * np.minimum(0.0, lam_ref)
         lam_t = state.p_t - system.penalty_t * slip_t
         stick = contact & (adhesion_by_projection(lam_t, bound) | reversal_through_adhesion(state.p_t, lam_t))
         sigma = np.where(contact & ~stick, np.sign(lam_t), 0.0)
@@ -377,7 +395,7 @@ def evaluate(problem: Problem, state: State, scales: Scales, cold: bool = False)
     if problem.creep_unknown:
         target, _ = problem.force_target(state.p_n)
         F_force = (float(system.weights @ state.p_t) - target) / system.zone_length
-    return Evaluation(F_n, F_t, F_load, F_force, contact, stick, sigma, bound, gap, slip_t, scales, margin)
+    return Evaluation(F_n, F_t, F_load, F_force, contact, stick, sigma, bound, gap, slip_t, scales, margin, capacity)
 
 
 @dataclass(frozen=True)
@@ -398,7 +416,14 @@ def node_sets(problem: Problem, state: State, ev: Evaluation) -> NodeSets:
     if problem.normal and ev.gap is not None and not contact.any():
         contact[nearest_contact(state.p_n, ev.gap, system.penalty_n)] = True
     stick = ev.stick & contact
-    if problem.creep_unknown and ev.slip_margin is not None and contact.any() and not stick.any():
+    # (a velocity-dependent law keeps the creepage in the full-slip rows through d mu/d s: no safeguard)
+    if (
+        problem.creep_unknown
+        and problem.friction is None
+        and ev.slip_margin is not None
+        and contact.any()
+        and not stick.any()
+    ):
         target, _ = problem.force_target(state.p_n)
         full_slip = float(system.weights @ (ev.sigma * ev.friction_bound))
         stick = full_slip_safeguard(contact, ev.slip_margin, ev.friction_bound, system.weights, abs(target - full_slip))

@@ -232,7 +232,12 @@ def solve_reduced(
 def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | None = None) -> State:
     """The Newton point: the solution of the linear system of the current node states (exact, or
     on a matrix-free system to the forcing target of :func:`solve_reduced`). ``record`` receives
-    the linear solve's counts (Krylov only), for the step's history row."""
+    the linear solve's counts (Krylov only), for the step's history row. With a velocity-dependent
+    friction law: :func:`rolling_cli.solver.velocity.newton_point`."""
+    if problem.friction is not None and problem.tangential:
+        from . import velocity
+
+        return velocity.newton_point(problem, state, ev)
     reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
     dz = solve_reduced(reduced, reduced.rhs, ev.relative_residual, record)
     return state_from_solution(problem, state, reduced, dz)
@@ -254,6 +259,10 @@ def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[f
     given as Q/P or Q/(mu P), moves with the creepage through the coupling."""
     if problem.creep_unknown or not problem.tangential:
         raise ValueError("the creep sensitivity needs a tangential problem with the creepage held")
+    if problem.friction is not None:
+        from . import velocity
+
+        return velocity.creep_sensitivity(problem, state, ev)
     sets = node_sets(problem, state, ev)
     reduced = reduced_system(problem, state, sets, ev)
     if reduced.creep_column is None:

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.friction import SlipFriction
 from ..system import ContactSystem
 from . import continuation, formulation, predictor, reduced
 from .budget import Budget, BudgetExhausted
@@ -65,17 +66,26 @@ class Controls:
 @dataclass(frozen=True)
 class Task:
     """One steady rolling solve: the contact system, mu, the controls, the relative tolerance and
-    the formulation the effects call for ("coupled", "decoupled" or "normal")."""
+    the formulation the effects call for ("coupled", "decoupled" or "normal"); ``friction`` a
+    velocity-dependent law (``mu`` is then its mu_static) or None (Coulomb)."""
 
     system: ContactSystem
     mu: float
     controls: Controls
     tolerance: float
     formulation: str
+    friction: SlipFriction | None = None
 
     def problem(self, mode: str, force: bool = True, system: ContactSystem | None = None) -> Problem:
         """The :class:`Problem` of one stage (``force=False`` holds the creepage)."""
-        return Problem(system or self.system, mode, self.mu, self.controls.load, self.controls.force if force else None)
+        return Problem(
+            system or self.system,
+            mode,
+            self.mu,
+            self.controls.load,
+            self.controls.force if force else None,
+            self.friction,
+        )
 
     @property
     def full_mode(self) -> str:
@@ -155,7 +165,9 @@ def _nonlinear(problem: Problem, scales: formulation.Scales) -> NonlinearSystem:
             "contact": int(ev.contact.sum()),
             "stick": int(ev.stick.sum()),
             "edge": bool(ev.contact[0] or ev.contact[-1]),
-            "linear_solver": problem.system.linear_solver,
+            "linear_solver": "dense LU"
+            if problem.friction is not None and problem.tangential
+            else problem.system.linear_solver,
         }
 
     return NonlinearSystem(evaluate, step, describe, lambda: dict(linear))

@@ -1,0 +1,178 @@
+"""The generalised Newton step with a velocity-dependent friction law mu(s_a).
+
+With Coulomb friction the slip nodes' tractions are eliminated exactly,
+p_t = -mu sigma p_n (:mod:`rolling_cli.solver.reduced`). With mu(s_a), s_a =
+|V| |s_t|, the friction bound g = mu(s_a) |lambda_n| depends on the slip s_t,
+which is a linear function of all tractions, so the slip rows of the
+projection equation F_t = p_t - sigma g(lambda_n, s_t) = 0 are linearised at
+the iterate k:
+
+    p_t,i = sigma_i g_i^k + (-sigma_i mu_i^k) (lambda_n,i - lambda_n,i^k) + h_i (s_t,i - s_t,i^k),
+    h_i = sigma_i |lambda_n,i^k| d mu / d s_t (s_t,i^k),  d mu / d s_t = |V| mu'(s_a) sgn(s_t)
+
+(the d mu/d s_a term of the generalised Jacobian; on contact nodes the
+linearised normal row makes lambda_n = p_n, so in the coupled mode
+sigma g^k + (-sigma mu^k)(lambda_n - lambda_n^k) = -sigma mu^k p_n). The slip
+tractions therefore stay unknowns: z = [p_n on contact | p_t on adhesion | p_t
+on slip | r_n overlap? | r_t creep?], with the contact, adhesion, load and
+force rows of :mod:`rolling_cli.solver.reduced` and the slip rows above (in
+stress units, the identity on their own p_t). The matrix is assembled dense
+(on a matrix-free system from the operators' exact entries) and solved by LU.
+
+Only a Problem with ``friction`` set reaches this module; Coulomb friction
+keeps :mod:`rolling_cli.solver.reduced`'s code path unchanged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .formulation import Evaluation, Problem, State, node_sets
+from .linalg import solve_dense
+from .reduced import _block as _dense_block
+
+
+def _block(matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """matrix[rows][:, cols] of a dense array or a block-Toeplitz operator."""
+    if isinstance(matrix, np.ndarray):
+        return _dense_block(matrix, rows, cols)
+    return matrix.block(rows, cols)
+
+
+def _rows(matrix, rows: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """(matrix @ values)[rows] [per unit of values]."""
+    if isinstance(matrix, np.ndarray):
+        return matrix[rows] @ values
+    return (matrix @ values)[rows]
+
+
+@dataclass
+class VelocitySystem:
+    """The linear system A z = rhs of one Newton step (module docstring) and its bookkeeping:
+    ``contact`` (p_n unknowns), ``traction`` (p_t unknowns: adhesion nodes, then slip nodes),
+    the overlap and creep columns, and ``creep_column`` = d rhs / d xi when the creepage is held."""
+
+    matrix: np.ndarray
+    rhs: np.ndarray
+    contact: np.ndarray
+    traction: np.ndarray
+    col_overlap: int | None
+    col_creep: int | None
+    creep_column: np.ndarray | None
+
+
+def slip_gain(problem: Problem, ev: Evaluation, slip_nodes: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+    """h_i = sigma_i |lambda_n,i| d mu/d s_t on the slip nodes [stress]: d p_t / d s_t of a slipping node."""
+    assert problem.friction is not None and ev.slip is not None and ev.capacity is not None
+    law, speed = problem.friction.law, problem.friction.speed
+    dmu_ds = law.dmu_ds(speed * np.abs(ev.slip[slip_nodes]))
+    return -ev.capacity[slip_nodes] * speed * dmu_ds
+
+
+def velocity_system(problem: Problem, state: State, ev: Evaluation) -> VelocitySystem:
+    """The Newton system of the current node states with mu(s_a) (module docstring).
+
+    Over 80 lines for a reason: the rows of one matrix, block by block, each next to its
+    right-hand side; split up, the column bookkeeping would be passed around whole.
+    """
+    system = problem.system
+    assert problem.friction is not None and ev.slip is not None and ev.capacity is not None
+    sets = node_sets(problem, state, ev)
+    r_n, r_t, lz, w = system.penalty_n, system.penalty_t, system.zone_length, system.weights
+    coupled = problem.mode == "coupled"
+    contact = sets.contact if problem.normal else sets.contact[:0]
+    stick, slip = sets.stick, sets.slip
+    traction = np.concatenate([stick, slip])
+    nc, ns, nt = contact.size, stick.size, traction.size
+    overlap_unknown, creep_unknown = problem.overlap_unknown, problem.creep_unknown
+    size = nc + nt + overlap_unknown + creep_unknown
+    col_overlap = nc + nt if overlap_unknown else None
+    col_creep = nc + nt + overlap_unknown if creep_unknown else None
+    A = np.zeros((size, size), order="F")
+    rhs = np.zeros(size)
+    cols_n, cols_t = slice(0, nc), slice(nc, nc + nt)
+    rows_st, rows_sl = slice(nc, nc + ns), slice(nc + ns, nc + nt)
+    e = system.creep_vector
+    h = slip_gain(problem, ev, slip, sets.sigma)
+    s_k = ev.slip[slip]
+    held_n = state.p_n  # the held p_n (tangential mode)
+    if problem.normal:  # contact rows: r_n delta_n = 0
+        A[:nc, cols_n] = r_n * _block(system.S_nn, contact, contact)
+        if system.S_nt is not None:
+            A[:nc, cols_t] = r_n * _block(system.S_nt, contact, traction)
+        rhs[:nc] = -r_n * (system.gap0[contact] - (0.0 if overlap_unknown else state.overlap))
+        if col_overlap is not None and problem.load is not None:
+            A[:nc, col_overlap] = -1.0
+            A[col_overlap, cols_n] = w[contact] / lz
+            rhs[col_overlap] = -problem.load / lz
+    # adhesion rows r_t s_t = 0 and the slip-row terms -h s_t, s_t = xi e + B_tt p_t + B_tn p_n
+    A[rows_st, cols_t] = r_t * _block(system.B_tt, stick, traction)
+    A[rows_sl, cols_t] = -h[:, None] * _block(system.B_tt, slip, traction)
+    diagonal = nc + ns + np.arange(slip.size)
+    A[diagonal, diagonal] += 1.0  # the slip rows' own p_t
+    rhs[rows_sl] = -h * s_k
+    if system.B_tn is not None:
+        if coupled:
+            A[rows_st, cols_n] = r_t * _block(system.B_tn, stick, contact)
+            A[rows_sl, cols_n] = -h[:, None] * _block(system.B_tn, slip, contact)
+        else:
+            rhs[rows_st] -= r_t * _rows(system.B_tn, stick, held_n)
+            rhs[rows_sl] += h * _rows(system.B_tn, slip, held_n)
+    if coupled:  # the bound's own term: p_t = -sigma mu^k p_n + ...
+        mu_k = problem.friction.at(ev.slip[slip])[0]
+        position = np.searchsorted(contact, slip)
+        A[diagonal, position] += sets.sigma[slip] * mu_k
+    else:
+        rhs[rows_sl] += sets.sigma[slip] * ev.friction_bound[slip]
+    creep_column = None
+    if creep_unknown:  # the unknown is r_t xi
+        A[rows_st, col_creep] = e[stick]
+        A[rows_sl, col_creep] = -h * e[slip] / r_t
+        A[col_creep, cols_t] = w[traction] / lz
+        target, d_target = problem.force_target(state.p_n)
+        if coupled and d_target is not None:
+            A[col_creep, cols_n] = -d_target[contact] / lz
+            rhs[col_creep] = 0.0
+        else:
+            rhs[col_creep] = target / lz
+    else:
+        rhs[rows_st] -= r_t * state.creep * e[stick]
+        rhs[rows_sl] += h * state.creep * e[slip]
+        creep_column = np.zeros(size)
+        creep_column[rows_st] = -r_t * e[stick]
+        creep_column[rows_sl] = h * e[slip]
+    return VelocitySystem(A, rhs, contact, traction, col_overlap, col_creep, creep_column)
+
+
+def state_from(problem: Problem, state: State, reduced: VelocitySystem, z: np.ndarray) -> State:
+    """The state whose unknowns are ``z`` (the others from ``state``)."""
+    nc, nt = reduced.contact.size, reduced.traction.size
+    new = state.copy()
+    if problem.normal:
+        new.p_n = np.zeros_like(state.p_n)
+        new.p_n[reduced.contact] = z[:nc]
+    new.p_t = np.zeros_like(state.p_t)
+    new.p_t[reduced.traction] = z[nc : nc + nt]
+    if reduced.col_overlap is not None:
+        new.overlap = float(z[reduced.col_overlap]) / problem.system.penalty_n
+    if reduced.col_creep is not None:
+        new.creep = float(z[reduced.col_creep]) / problem.system.penalty_t
+    return new
+
+
+def newton_point(problem: Problem, state: State, ev: Evaluation) -> State:
+    """The Newton point of the current node states with mu(s_a) (dense LU)."""
+    reduced = velocity_system(problem, state, ev)
+    return state_from(problem, state, reduced, solve_dense(reduced.matrix, reduced.rhs))
+
+
+def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
+    """dQ/dxi [force/length] at fixed node states (creepage held), d mu/d s_a included."""
+    reduced = velocity_system(problem, state, ev)
+    if reduced.creep_column is None:
+        raise ValueError("the creep sensitivity needs the creepage held")
+    dz = solve_dense(reduced.matrix, reduced.creep_column)
+    nc, nt = reduced.contact.size, reduced.traction.size
+    return float(problem.system.weights[reduced.traction] @ dz[nc : nc + nt])
