@@ -1010,6 +1010,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "frictional_power_total": power.total(w, dissipation),
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
+    attrs.update(_sensitivities(case, system, state, converged))
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0
@@ -1038,6 +1039,22 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     )
     result.record(**attrs)
     return result
+
+
+def _sensitivities(case: Case, system: ContactSystem, state: State, converged: bool) -> dict:
+    """The derivatives of a converged solve (:mod:`rolling_cli.solver.sensitivity`) and their time;
+    NaN for a failed one (its state is no solution) or a singular final matrix (a warning)."""
+    from .solver import sensitivity
+
+    t0 = time.perf_counter()
+    found = sensitivity.UNDEFINED
+    if converged:
+        force = case.tangential.control()[0] != "creep"
+        try:
+            found = sensitivity.sensitivities(system, case.friction.mu, state, force, hertz_applies(case))
+        except np.linalg.LinAlgError as err:
+            log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
+    return {**found.as_dict(), "time_sensitivities": time.perf_counter() - t0}
 
 
 def _free_creep(case: Case) -> float:
