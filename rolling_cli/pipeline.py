@@ -1010,7 +1010,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "frictional_power_total": power.total(w, dissipation),
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
-    attrs.update(_sensitivities(case, system, state, converged))
+    attrs.update(_sensitivities(case, system, state, converged, half_width))
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0
@@ -1041,7 +1041,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     return result
 
 
-def _sensitivities(case: Case, system: ContactSystem, state: State, converged: bool) -> dict:
+def _sensitivities(case: Case, system: ContactSystem, state: State, converged: bool, half_width: float) -> dict:
     """The derivatives of a converged solve (:mod:`rolling_cli.solver.sensitivity`) and their time;
     NaN for a failed one (its state is no solution) or a singular final matrix (a warning)."""
     from .solver import sensitivity
@@ -1051,7 +1051,8 @@ def _sensitivities(case: Case, system: ContactSystem, state: State, converged: b
     if converged:
         force = case.tangential.control()[0] != "creep"
         try:
-            found = sensitivity.sensitivities(system, case.friction.mu, state, force, hertz_applies(case))
+            similar = hertz_applies(case)
+            found = sensitivity.sensitivities(system, case.friction.mu, state, force, similar, half_width)
         except np.linalg.LinAlgError as err:
             log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
     return {**found.as_dict(), "time_sensitivities": time.perf_counter() - t0}

@@ -103,14 +103,20 @@ UNDEFINED = Sensitivities(*([math.nan] * 8))
 
 
 def sensitivities(
-    system: ContactSystem, mu: float, state: State, force_control: bool, self_similar: bool = False
+    system: ContactSystem,
+    mu: float,
+    state: State,
+    force_control: bool,
+    self_similar: bool = False,
+    half_width: float | None = None,
 ) -> Sensitivities:
     """The derivatives of the converged ``state`` of ``system`` (module docstring).
 
     ``mu`` the friction coefficient, ``force_control`` whether the case prescribes
     the tangential force (else the creepage), ``self_similar`` whether rollc's
     mapping is homogeneous in the load (a load on two half-spaces; the
-    P-derivatives then come from the homogeneity). A frictionless case has only
+    P-derivatives then come from the homogeneity; ``half_width`` the contact half-width
+    [length] when known, else measured here). A frictionless case has only
     the normal derivatives (the tangential ones NaN). Raises
     ``numpy.linalg.LinAlgError`` when the final reduced matrix is singular.
     """
@@ -141,10 +147,14 @@ def sensitivities(
     if self_similar:  # homogeneity: P dF/dP = degree(F) F - (Q or xi/2) dF/d(Q or xi) (module docstring)
         tangent = tangents.get("Q" if force else "xi")
         weight = (q if force else 0.5 * state.creep) if tangent is not None else 0.0
-        lo, hi = system.extent(state.p_n < 0.0)
-        d_a = _edge_derivative(system, state, sets.contact, tangent) if tangent is not None else 0.0
-        d_p0 = float(-tangent.dp_n[peak_node]) if tangent is not None else 0.0
-        da = (0.25 * (hi - lo) - weight * d_a) / load
+        if half_width is None:
+            lo, hi = system.extent(state.p_n < 0.0)
+            half_width = 0.5 * (hi - lo)
+        d_a = d_p0 = 0.0
+        if tangent is not None and np.any(tangent.dp_n):  # the pressure moves with Q or xi (coupled)
+            d_a = _edge_derivative(system, state, sets.contact, tangent)
+            d_p0 = float(-tangent.dp_n[peak_node])
+        da = (0.5 * half_width - weight * d_a) / load
         dp0 = (0.5 * float(-state.p_n[peak_node]) - weight * d_p0) / load
     else:
         da = _edge_derivative(system, state, sets.contact, tangents["P"])
