@@ -24,8 +24,8 @@ dxi/dQ = 1/(dQ/dxi), dxi/dmu = -(dQ/dmu)/(dQ/dxi), dxi/dP = -(dQ/dP)/(dQ/dxi)
 creepage control) the creepage derivatives are NaN. An overlap-controlled
 solve is differentiated as the load-controlled problem at its own load (the
 same solution; d/dP then holds P as the parameter instead of the overlap).
-The derivatives are those of the discrete problem on its own grid (the grid
-is not rescaled with a(P)).
+The derivatives in xi, Q and mu are those of the discrete problem on its own
+grid; for the load see "Moving contact edges".
 
 Ties: at a node exactly on a zone boundary the semismooth Jacobian is not
 unique. The node states are the solver's (:func:`~rolling_cli.solver.formulation.node_sets`
@@ -46,9 +46,14 @@ Hence ``self_similar`` problems (a load on two half-spaces: the pipeline's grid,
 zone and BEM blocks all scale with the Hertz a, so rollc's mapping is exactly
 homogeneous, Q(l P, l^1/2 xi) = l Q(P, xi)) take the P-derivatives from that
 homogeneity and the fixed-grid derivatives in xi, Q and mu:
-dQ/dP = (Q - xi/2 dQ/dxi)/P, dxi/dP = (xi/2 - Q dxi/dQ)/P, da/dP = a/(2P),
-dp0/dP = p0/(2P) (a the recorded contact half-width, p0 = max|p_n|): the exact
-derivatives of ``rollc solve``'s result with respect to the load. Other
+P dF/dP = degree(F) F - (xi/2) dF/dxi under creepage control and
+P dF/dP = degree(F) F - Q dF/dQ under force control, with degree 1 for Q and
+1/2 for xi, a and p0 (a the recorded contact half-width, p0 = max|p_n|; dF/dxi
+and dF/dQ at fixed states, a's by the argument below): so dQ/dP =
+(Q - xi/2 dQ/dxi)/P, dxi/dP = (xi/2 - Q dxi/dQ)/P, and for similar bodies,
+whose pressure does not move with xi or Q, da/dP = a/(2P), dp0/dP = p0/(2P).
+These are the exact derivatives of ``rollc solve``'s result with respect to
+the load (central differences of whole re-solves agree to 1e-7). Other
 problems (layers, overlap control) take them at fixed states on their grid, and
 the contact width by the active-set change argument: at fixed states the
 outermost contact node k leaves the contact when its pressure reaches zero
@@ -278,14 +283,17 @@ def _edge_derivative(system: ContactSystem, state: State, contact: np.ndarray, t
     two predictions are inconsistent (both ahead or both behind)."""
     if contact.size == 0:
         return math.nan
-    gap = system.gap(state.p_n, state.p_t, state.overlap)
-    d_gap = system.gap(tangent.dp_n, tangent.dp_t, tangent.d_overlap) - system.gap0
+    ends = ((contact[-1], contact[-1] + 1), (contact[0], contact[0] - 1))
+    if not all(0 <= j < system.size for _, j in ends):
+        return math.nan
+    rows = np.array([j for _, j in ends])
+    gap = _gap_rows(system, rows, state.p_n, state.p_t) - state.overlap + system.gap0[rows]
+    d_gap = _gap_rows(system, rows, tangent.dp_n, tangent.dp_t) - tangent.d_overlap
     total = 0.0
-    for k, j in ((contact[-1], contact[-1] + 1), (contact[0], contact[0] - 1)):
-        if not 0 <= j < system.size:
-            return math.nan
+    for row, (k, j) in enumerate(ends):
+        gap_j, d_gap_j = gap[row], d_gap[row]
         leaves = -state.p_n[k] / tangent.dp_n[k] if tangent.dp_n[k] != 0.0 else math.inf
-        joins = -gap[j] / d_gap[j] if d_gap[j] != 0.0 else math.inf
+        joins = -gap_j / d_gap_j if d_gap_j != 0.0 else math.inf
         if math.isinf(leaves) and math.isinf(joins):
             continue  # this edge does not move
         if joins > 0.0 > leaves or leaves > 0.0 > joins:
@@ -293,3 +301,13 @@ def _edge_derivative(system: ContactSystem, state: State, contact: np.ndarray, t
         else:
             return math.nan
     return total
+
+
+def _gap_rows(system: ContactSystem, rows: np.ndarray, p_n: np.ndarray, p_t: np.ndarray) -> np.ndarray:
+    """(S_nn p_n + S_nt p_t)[rows] [length]: the rows' products on dense blocks, else whole products."""
+    if isinstance(system.S_nn, np.ndarray):
+        out = system.S_nn[rows] @ p_n
+        if system.S_nt is not None:
+            out = out + system.S_nt[rows] @ p_t
+        return out
+    return (system.gap(p_n, p_t, 0.0) - system.gap0)[rows]
