@@ -212,3 +212,54 @@ def test_units_of_quotients():
     units = {"length": "mm", "stress": "MPa", "force/length": "N/mm", "1": "1"}
     assert units_of("1/(force/length)", units) == "1/(N/mm)"
     assert units_of("stress/(force/length)", units) == "MPa/(N/mm)"
+
+
+def test_full_slip_free_rolling_and_frictionless():
+    """The branches without a partial-slip linearisation, against exact values.
+
+    Full slip (creepage twice Carter's onset): Q = -sgn(xi) mu P exactly, so dQ/dxi = 0,
+    dQ/dmu = -sgn(xi) P and dQ/dP = -sgn(xi) mu (to rounding), and the creepage derivatives are
+    undefined (NaN: dxi/dQ would be infinite). Free rolling of similar bodies (no tangential
+    problem solved): every contact node adheres, and Carter's creep coefficient at Q = 0 is
+    -(2 P R*/a) (c = a), met within the grid's resolution of the contact, Delta/(2a).
+    Frictionless: the tangential derivatives are NaN, the normal ones Hertz's (a and p0 proportional
+    to sqrt(P), exact by homogeneity: a/(2P) to the recorded half-width, p0/(2P) to max|p_n|)."""
+    the_plan, _, base = _solved(case_dict())
+    onset = carter.full_slip_creepage(base.hertz_a, the_plan.radius, base.mu)
+    _, _, slip = _solved(case_dict(**{"tangential.creep": 2.0 * onset}))
+    P, mu = slip.normal_load, slip.mu
+    assert slip.q_over_mu_p == pytest.approx(-1.0, rel=1e-12)
+    assert slip.dQ_dxi == 0.0
+    assert slip.dQ_dmu == pytest.approx(-P, rel=1e-12)
+    assert slip.dQ_dP == pytest.approx(-mu, rel=1e-9)
+    assert all(np.isnan(getattr(slip, name)) for name in ("dxi_dQ", "dxi_dmu", "dxi_dP"))
+    free = pipeline.solve(load_case(case_dict(**{"tangential.q_over_mu_p": None})))
+    expected = carter.creep_coefficient(0.0, free.normal_load, free.hertz_a, the_plan.radius)
+    assert abs(free.dQ_dxi / expected - 1.0) <= free.node_spacing / (2.0 * free.hertz_a)
+    frictionless = pipeline.solve(load_case(case_dict(**{"friction.mu": 0.0, "tangential.q_over_mu_p": None})))
+    assert np.isnan(frictionless.dQ_dxi) and np.isnan(frictionless.dxi_dQ)
+    assert frictionless.da_dP == pytest.approx(frictionless.contact_half_width / (2.0 * frictionless.normal_load))
+    assert frictionless.dp0_dP == pytest.approx(frictionless.traction_scale / (2.0 * frictionless.normal_load))
+
+
+def test_a_zone_change_within_the_step_is_reported():
+    """At a creepage where an adhesion node turns to slip within the difference's step, the check
+    reports the pattern change instead of comparing: found by bisection between two creepages
+    1e-3 apart whose zone patterns differ, down to a bracket of 1e-7 relative (inside the step
+    of 1e-6), on Carter's 40 elements under creepage control."""
+    data = case_dict(**{"discretization.contact_elements": 40})
+    xi = pipeline.solve(load_case(data)).creep
+
+    def states(value):
+        return pipeline.solve(load_case(case_dict(data, **{"tangential.creep": value}))).state
+
+    lo, hi = xi, xi * 1.001
+    while np.array_equal(states(lo), states(hi)):  # move on until the pattern differs across the bracket
+        lo, hi = hi, hi * 1.001
+    first = states(lo)
+    while abs(hi - lo) > 1e-7 * abs(xi):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if np.array_equal(states(mid), first) else (lo, mid)
+    checks = check_case(case_dict(data, **{"tangential.creep": 0.5 * (lo + hi)}), force_control=False)
+    assert not isinstance(checks, str)
+    assert {c.name: c.pattern_changed for c in checks}["dQ_dxi"]
