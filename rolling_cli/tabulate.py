@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -65,43 +66,43 @@ def check_request(case: Case, lo: float, hi: float, tolerance: float, source: st
         raise CaseError("friction.mu = 0: allowed: mu > 0 (Q/(mu P) needs friction)", file=source, key="friction.mu")
 
 
-def build(
-    case: Case,
-    lo: float = -1.0,
-    hi: float = 1.0,
-    tolerance: float = 1e-3,
-    *,
-    initial: int = INITIAL,
-    max_cases: int = MAX_CASES,
-    use_cache: bool = True,
-) -> tuple[Table, np.ndarray]:
-    """The table of ``case`` over u in [lo, hi] to ``tolerance`` in Q/(mu P) (module docstring);
-    returns the table and the error estimate of each interval. Raises CaseError for a request
-    :func:`check_request` refuses (also when |xi| would exceed 1 at an end of the range) and the
-    solver's errors for a node that does not converge."""
-    check_request(case, lo, hi, tolerance, case.source)
-    t0 = time.perf_counter()
-    the_plan, system = pipeline.prepare(case, use_cache)
-    mu = case.friction.mu
+@dataclass
+class Row:
+    """One row of a table: the normalised creepages ``nodes`` u at friction ``mu``, Q/(mu P) ``values``,
+    their slopes in u (``slopes``) and in mu at fixed u (``mu_slopes``), the error estimate of each
+    interval, the solves made and whether the estimate met the tolerance."""
+
+    mu: float
+    nodes: np.ndarray
+    values: np.ndarray
+    slopes: np.ndarray
+    mu_slopes: np.ndarray
+    intervals: np.ndarray
+    cases: int
+    met: bool
+
+
+def _row(
+    case: Case, system, the_plan, mu: float, lo: float, hi: float, tolerance: float, initial: int, budget: int, cache
+) -> Row:
+    """The adaptive sampling of one row (module docstring) at friction ``mu``, at most ``budget`` solves."""
     scale = mu * the_plan.half_width / the_plan.radius  # xi of u = 1
-    if max(abs(lo), abs(hi)) * scale > 1.0:
-        raise CaseError(
-            f"--range = {lo:g}:{hi:g}: a creepage |xi| = {max(abs(lo), abs(hi)) * scale:.3g} > 1 at an end "
-            f"(xi = u mu a/R*, mu a/R* = {scale:.3g}); allowed: |u| <= {1.0 / scale:.4g}",
-            file=case.source,
-        )
-    solved: dict[float, tuple[float, float, State]] = {}
+    solved: dict[float, tuple[float, float, float, State]] = {}
+    friction = dataclasses.replace(case.friction, mu=mu)
 
     def solve_at(u: float) -> None:
         near = min(solved, key=lambda v: abs(v - u)) if solved else None
-        start = solved[near][2] if near is not None else None
+        start = solved[near][3] if near is not None else None
         tangential = type(case.tangential)(creep=float(u * scale))
-        point = dataclasses.replace(case, tangential=tangential)
-        result = pipeline.solve(point, system=system, start=start, use_cache=use_cache)
+        point = dataclasses.replace(case, friction=friction, tangential=tangential)
+        result = pipeline.solve(point, system=system, start=start, use_cache=cache)
         load, ratio = recorded(result.normal_load, "normal_load"), recorded(result.q_over_mu_p, "q_over_mu_p")
-        slope = recorded(result.dQ_dxi, "dQ_dxi") * scale / (mu * load)
+        dq_dxi, dq_dmu = recorded(result.dQ_dxi, "dQ_dxi"), recorded(result.dQ_dmu, "dQ_dmu")
         overlap, creep = recorded(result.solved_overlap, "solved_overlap"), recorded(result.creep, "creep")
-        solved[u] = (ratio, slope, State(result.p_n, result.p_t, overlap, creep))
+        slope = dq_dxi * scale / (mu * load)
+        # d(Q/(mu P))/dmu at fixed u: xi = u mu a/R* moves with mu, dxi/dmu = xi/mu
+        mu_slope = (dq_dmu + creep / mu * dq_dxi) / (mu * load) - ratio / mu
+        solved[u] = (ratio, slope, mu_slope, State(result.p_n, result.p_t, overlap, creep))
 
     def predicted(a: float, b: float, u: float) -> float:
         nodes = np.array([a, b])
@@ -117,7 +118,7 @@ def build(
     met = True
     while pending:
         a, b = pending.pop(0)
-        if len(solved) >= max_cases:
+        if len(solved) >= budget:
             met = False
             accepted[(a, b)] = np.inf
             continue
@@ -130,26 +131,63 @@ def build(
             accepted[(a, m)] = accepted[(m, b)] = error
     nodes = sorted(solved)
     intervals = np.array([accepted[(a, b)] for a, b in zip(nodes[:-1], nodes[1:], strict=True)])
-    values = np.array([solved[u][0] for u in nodes])
-    slopes = np.array([solved[u][1] for u in nodes])
-    bound = float(intervals.max())
-    if not met:
-        log.warning("the table reached %d solves before its error estimate met %g", len(solved), tolerance)
-    attributes = {
+    columns = np.array([solved[u][:3] for u in nodes])
+    return Row(mu, np.array(nodes), columns[:, 0], columns[:, 1], columns[:, 2], intervals, len(solved), met)
+
+
+def _attributes(case: Case, the_plan, rows: list[Row], t0: float) -> dict:
+    """The table file's attributes besides the data and the tolerance."""
+    return {
         "software_version": __version__,
         "created": utc_timestamp(),
         "title": case.title or "",
         "axis": "creepage normalised as xi R*/(mu a), with its sign (xi = (V_A - V_B)/|V|)",
         "value": "Q/(mu P): Q the tangential force on body A, P the normal load, per unit axial length",
-        "met": met,
-        "creep_scale": scale,
-        "mu": mu,
+        "met": all(row.met for row in rows),
+        "creep_scale": case.friction.mu * the_plan.half_width / the_plan.radius,
+        "mu": case.friction.mu,
         "half_width": the_plan.half_width,
         "radius": the_plan.radius,
         "load": float(case.normal.load or 0.0),
-        "cases": len(solved),
+        "cases": sum(row.cases for row in rows),
         "time": time.perf_counter() - t0,
         "case_toml": case_to_toml(case),
     }
-    table = Table(np.array(nodes), values, slopes, float(tolerance), bound, attributes)
-    return table, intervals
+
+
+def _prepared(case: Case, lo: float, hi: float, tolerance: float, mu_high: float, cache: bool):
+    """Check the request and build the case's plan and contact system."""
+    check_request(case, lo, hi, tolerance, case.source)
+    the_plan, system = pipeline.prepare(case, cache)
+    scale = mu_high * the_plan.half_width / the_plan.radius
+    if max(abs(lo), abs(hi)) * scale > 1.0:
+        raise CaseError(
+            f"--range = {lo:g}:{hi:g}: a creepage |xi| = {max(abs(lo), abs(hi)) * scale:.3g} > 1 at an end "
+            f"(xi = u mu a/R*, mu a/R* = {scale:.3g}); allowed: |u| <= {1.0 / scale:.4g}",
+            file=case.source,
+        )
+    return the_plan, system
+
+
+def build(
+    case: Case,
+    lo: float = -1.0,
+    hi: float = 1.0,
+    tolerance: float = 1e-3,
+    *,
+    initial: int = INITIAL,
+    max_cases: int = MAX_CASES,
+    use_cache: bool = True,
+) -> tuple[Table, np.ndarray]:
+    """The table of ``case`` over u in [lo, hi] to ``tolerance`` in Q/(mu P) (module docstring);
+    returns the table and the error estimate of each interval. Raises CaseError for a request
+    :func:`check_request` refuses (also when |xi| would exceed 1 at an end of the range) and the
+    solver's errors for a node that does not converge."""
+    t0 = time.perf_counter()
+    the_plan, system = _prepared(case, lo, hi, tolerance, case.friction.mu, use_cache)
+    row = _row(case, system, the_plan, case.friction.mu, lo, hi, tolerance, initial, max_cases, use_cache)
+    if not row.met:
+        log.warning("the table reached %d solves before its error estimate met %g", row.cases, tolerance)
+    attributes = _attributes(case, the_plan, [row], t0)
+    table = Table(row.nodes, row.values, row.slopes, float(tolerance), float(row.intervals.max()), attributes)
+    return table, row.intervals
