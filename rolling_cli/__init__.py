@@ -19,14 +19,18 @@ method. Data flows one way, through plain arrays:
    functions of the tractions, with the upwind slip operator
    (:mod:`rolling_cli.slip`).
 5. **Newton** (:mod:`rolling_cli.solver`): the projection equations solved by
-   the generalised Newton method, with load control and a watchdog line search.
+   the generalised Newton method, with load control and a watchdog line search;
+   then the derivatives of the converged solve by implicit differentiation
+   (:mod:`rolling_cli.solver.sensitivity`: dQ/dxi, dQ/dmu, dQ/dP, ...).
 6. **result** (:mod:`rolling_cli.result`), then **files and plots**: one
    layout for results and sweeps (:mod:`rolling_cli.layout`), written by
    appending rows (:mod:`rolling_cli.writer`), read by :mod:`rolling_cli.reader`
    (:func:`open_result`: an ``xarray.Dataset``), exported as tables
    (:mod:`rolling_cli.export`), plotted (:mod:`rolling_cli.plot`); sweeps
    (:mod:`rolling_cli.sweep`; families of creep-force curves:
-   :mod:`rolling_cli.families`) run serially, on local workers or on Dask.
+   :mod:`rolling_cli.families`) run serially, on local workers or on Dask;
+   creep-force tables (``rollc table``, built by :mod:`rolling_cli.tabulate`;
+   :func:`rolling_cli.table.load` reads one as a numpy-only interpolant).
 
 Python use::
 

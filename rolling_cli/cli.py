@@ -331,6 +331,64 @@ def export(result_file, output, fields, overwrite):
     _run(action)
 
 
+def _span(text: str) -> tuple[float, float]:
+    """LO:HI of ``--range``; CaseError naming the option otherwise."""
+    try:
+        lo, hi = (float(part) for part in text.split(":"))
+    except ValueError:
+        raise CaseError(f"--range = {text!r}: allowed: LO:HI, two numbers (xi R*/(mu a))") from None
+    return lo, hi
+
+
+@main.command()
+@verbosity_options
+@click.argument("case_file", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", type=click.Path(dir_okay=False), help="Table file (.h5) [default: CASE_table.h5].")
+@click.option(
+    "--tolerance", type=float, default=1e-3, show_default=True, help="Largest interpolation error, in Q/(mu P)."
+)
+@click.option(
+    "--range", "span", default="-1:1", show_default=True, help="LO:HI of the creepage normalised as xi R*/(mu a)."
+)
+@click.option("--overwrite", is_flag=True, help="Replace an existing table file.")
+@click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
+@click.pass_context
+def table(ctx, case_file, output, tolerance, span, overwrite, no_cache):
+    """Tabulate Q/(mu P) against xi R*/(mu a) for CASE_FILE, sampled adaptively (rolling_cli.table.load reads it)."""
+
+    def action():
+        from . import outputs
+        from . import table as table_file
+        from .case import load_case
+        from .tabulate import build, check_request
+
+        _imported()
+        lo, hi = _span(span)
+        case = load_case(case_file)
+        check_request(case, lo, hi, tolerance, case_file)
+        out = output or Path(case_file).stem + "_table.h5"
+        outputs.check_output(out, inputs=(case_file,), overwrite=overwrite, kind="table")
+        with outputs.claim(out):
+            made, intervals = build(case, lo, hi, tolerance, use_cache=not no_cache)
+            with outputs.atomic_file(out, replace=overwrite) as tmp:
+                table_file.write(tmp, made, intervals)
+        if not ctx.obj["quiet"]:
+            attrs = made.attributes
+            click.echo(
+                f"table          {made.nodes.size} nodes over xi R*/(mu a) = {lo:g} .. {hi:g}, "
+                f"error estimate {made.error_bound:.3g} (tolerance {tolerance:g}), {attrs['cases']} solves, "
+                f"{attrs['time']:.2f} s\n  written        {out}"
+            )
+        if not made.attributes["met"]:
+            estimate = made.error_bound
+            _fail(f"{case_file}: the error estimate {estimate:.3g} did not meet {tolerance:g} (written {out})", 1)
+
+    try:
+        _run(action)
+    except KeyboardInterrupt:
+        _fail("interrupted: nothing was written", 130)
+
+
 class Progress:
     """A one-line progress bar on stderr; silent when stderr is not a terminal."""
 

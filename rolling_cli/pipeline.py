@@ -1050,6 +1050,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
+    attrs.update(_sensitivities(case, system, state, converged, half_width))
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0
@@ -1111,6 +1112,21 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
         out["creep_slope"] = float(slope)
         out["branch"] = "rising" if slope < 0.0 else "falling"
     return out
+def _sensitivities(case: Case, system: ContactSystem, state: State, converged: bool, half_width: float) -> dict:
+    """The derivatives of a converged solve (:mod:`rolling_cli.solver.sensitivity`) and their time;
+    NaN for a failed one (its state is no solution) or a singular final matrix (a warning)."""
+    from .solver import sensitivity
+
+    t0 = time.perf_counter()
+    found = sensitivity.UNDEFINED
+    if converged:
+        force = case.tangential.control()[0] != "creep"
+        try:
+            similar = hertz_applies(case)
+            found = sensitivity.sensitivities(system, case.friction.mu, state, force, similar, half_width)
+        except np.linalg.LinAlgError as err:
+            log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
+    return {**found.as_dict(), "time_sensitivities": time.perf_counter() - t0}
 
 
 def _free_creep(case: Case) -> float:

@@ -25,6 +25,21 @@ def _wrap(line: str) -> list[str]:
     return textwrap.wrap(line, WIDTH, subsequent_indent=_INDENT, break_on_hyphens=False) or [line]
 
 
+def _sensitivity_lines(attrs, length: str, stress: str, line: str) -> list[str]:
+    """The derivatives of the solve (:mod:`rolling_cli.solver.sensitivity`), when recorded."""
+    if "dQ_dxi" not in attrs and "da_dP" not in attrs:
+        return []
+    per_load = f"1/({line})"
+    return [
+        f"  sensitivity    creep coefficient dQ/dxi = {_fmt(attrs.get('dQ_dxi'))} {line}, "
+        f"dQ/dmu = {_fmt(attrs.get('dQ_dmu'))} {line}, dQ/dP = {_fmt(attrs.get('dQ_dP'))}",
+        f"{_INDENT}dxi/dQ = {_fmt(attrs.get('dxi_dQ'))} {per_load}, dxi/dmu = {_fmt(attrs.get('dxi_dmu'))}, "
+        f"dxi/dP = {_fmt(attrs.get('dxi_dP'))} {per_load}",
+        f"{_INDENT}da/dP = {_fmt(attrs.get('da_dP'))} {length}/({line}), "
+        f"dp0/dP = {_fmt(attrs.get('dp0_dP'))} {stress}/({line})",
+    ]
+
+
 def summary(result: Result, output: str | None = None) -> str:
     """Multi-line text: convergence, loads, creepage, zones, effects and times."""
     u = result.units
@@ -59,6 +74,7 @@ def summary(result: Result, output: str | None = None) -> str:
     if attrs.get("branch"):
         creep += f", {attrs['branch']} branch (dQ/dxi = {_fmt(attrs.get('creep_slope'))} {line})"
     lines.append(creep)
+    lines.extend(_sensitivity_lines(attrs, length, stress, line))
     overlap = attrs.get("overlap", math.nan)
     if not math.isnan(overlap):
         lines.append(f"  overlap        {_fmt(overlap)} {length}")

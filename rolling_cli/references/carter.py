@@ -56,3 +56,27 @@ def creepage(q_over_mu_p: float, half_width_a: float, radius: float, mu: float) 
 def full_slip_creepage(half_width_a: float, radius: float, mu: float) -> float:
     """|xi| [-] at the onset of full slip (|Q| = mu P): mu a / R*."""
     return float(mu * half_width_a / radius)
+
+
+# --- derivatives of Carter's creep-force law (issue 24): Q/(mu P) = 1 - (1 - s)^2, s = |xi| R* / (mu a) ---
+
+
+def _slip_measure(q_over_mu_p: float) -> float:
+    """s = |xi| R* / (mu a) = 1 - sqrt(1 - |Q|/(mu P)) [-]."""
+    return float(1.0 - np.sqrt(1.0 - abs(q_over_mu_p)))
+
+
+def creep_coefficient(q_over_mu_p: float, load: float, half_width_a: float, radius: float) -> float:
+    """dQ/dxi [force/length] at fixed mu and P: -(2 P R*/a)(1 - |xi| R*/(mu a)) = -(2 P R*/a) c/a
+    (negative: Q falls as xi rises, whatever the sign of Q)."""
+    return float(-2.0 * load * radius / half_width_a * (1.0 - _slip_measure(q_over_mu_p)))
+
+
+def friction_derivative(q_over_mu_p: float, load: float) -> float:
+    """dQ/dmu [force/length] at fixed xi and P: sgn(Q) P s^2 (a at fixed P does not depend on mu)."""
+    return float(np.sign(q_over_mu_p) * load * _slip_measure(q_over_mu_p) ** 2)
+
+
+def load_derivative(q_over_mu_p: float, mu: float) -> float:
+    """dQ/dP [-] at fixed xi and mu, with a proportional to sqrt(P) (Hertz): sgn(Q) mu s."""
+    return float(np.sign(q_over_mu_p) * mu * _slip_measure(q_over_mu_p))

@@ -24,6 +24,7 @@ from .quantities import (
     Loads,
     Model,
     Provenance,
+    Sensitivities,
     StressMaxima,
     Timings,
     declared,
@@ -92,7 +93,9 @@ class ScalarView(MutableMapping):
 
 
 @dataclass
-class Result(Provenance, Convergence, Loads, Friction, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima):
+class Result(
+    Provenance, Convergence, Loads, Friction, Contact, Sensitivities, Model, Timings, Adaptive, ErrorEstimate, StressMaxima
+):
     """Arrays over the n contact nodes and the solve's declared scalars.
 
     Arrays: ``x``, ``weights`` [length]; ``p_n``, ``p_t`` [stress];

@@ -11,7 +11,9 @@ a file has the quantities that file recorded.
 
 Units are keys into the result's unit names (:attr:`Result.units`):
 ``"length"``, ``"stress"``, ``"force/length"``, ``"stress/length"``, ``"length/time"``, ``"1"``
-(dimensionless: ratios, counts, flags, relative values), ``"s"`` (wall time);
+(dimensionless: ratios, counts, flags, relative values), ``"s"`` (wall time),
+the quotients ``"1/(force/length)"``, ``"length/(force/length)"``,
+``"stress/(force/length)"`` (derivatives with respect to a load);
 ``None`` for text and booleans, which carry no unit.
 """
 
@@ -24,7 +26,19 @@ from typing import Any, NamedTuple
 import numpy as np
 
 #: Unit keys a quantity may have (module docstring).
-UNIT_KEYS = ("length", "stress", "force/length", "stress/length", "length/time", "1", "s", None)
+UNIT_KEYS = (
+    "length",
+    "stress",
+    "force/length",
+    "stress/length",
+    "length/time",
+    "1",
+    "s",
+    "1/(force/length)",
+    "length/(force/length)",
+    "stress/(force/length)",
+    None,
+)
 
 
 class Quantity(NamedTuple):
@@ -172,6 +186,7 @@ class Timings:
     time_solve: float | None = quantity("wall time of the Newton solve", "s")
     time_total_solve: float | None = quantity("wall time of the solve, every mesh level", "s")
     time_stresses: float | None = quantity("wall time of the subsurface stresses", "s")
+    time_sensitivities: float | None = quantity("wall time of the sensitivities (one linear solve each)", "s")
     time_total: float | None = quantity("wall time of the whole command", "s")
 
 
@@ -241,8 +256,39 @@ class StressMaxima:
     stress_max_bond_tension_body: str | None = text("body of the largest bond tension")
 
 
+@dataclass(kw_only=True)
+class Sensitivities:
+    """Derivatives of the converged solve (:mod:`rolling_cli.solver.sensitivity`): implicit
+    differentiation at the final node states, P-derivatives of half-space pairs by homogeneity."""
+
+    dQ_dxi: float | None = quantity("creep coefficient dQ/dxi at fixed mu and P", "force/length")
+    dQ_dmu: float | None = quantity("dQ/dmu at fixed creepage and P", "force/length")
+    dQ_dP: float | None = quantity("dQ/dP at fixed creepage and mu", "1")
+    dxi_dQ: float | None = quantity("dxi/dQ at fixed mu and P", "1/(force/length)")
+    dxi_dmu: float | None = quantity("dxi/dmu at fixed Q and P", "1")
+    dxi_dP: float | None = quantity("dxi/dP at fixed Q and mu", "1/(force/length)")
+    da_dP: float | None = quantity(
+        "d(contact half-width)/dP, the case's tangential control held", "length/(force/length)"
+    )
+    dp0_dP: float | None = quantity(
+        "d(peak pressure max|p_n|)/dP, the case's tangential control held", "stress/(force/length)"
+    )
+
+
 #: The groups, in the order the file lists their variables.
-GROUPS = (Provenance, Convergence, Loads, Friction, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima)
+GROUPS = (
+    Provenance,
+    Convergence,
+    Loads,
+    Friction,
+    Contact,
+    Sensitivities,
+    Model,
+    Timings,
+    Adaptive,
+    ErrorEstimate,
+    StressMaxima,
+)
 
 
 def declared() -> dict[str, Quantity]:

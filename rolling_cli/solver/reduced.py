@@ -6,7 +6,8 @@ assembled dense from the compliance blocks (:func:`dense_matrix`), or is a
 :class:`~rolling_cli.solver.matrix_free.ReducedOperator` on a matrix-free
 system. :func:`solve_reduced` solves either; :func:`newton_point` is the
 generalised Newton step of :mod:`rolling_cli.solver.formulation`, and
-:func:`creep_sensitivity` the derivative dQ/dxi at fixed node states.
+:func:`creep_sensitivity` the derivative dQ/dxi at fixed node states
+(:mod:`rolling_cli.solver.sensitivity` all the derivatives of a converged solve).
 """
 
 from __future__ import annotations
@@ -206,6 +207,44 @@ def state_from_solution(problem: Problem, state: State, reduced: ReducedSystem, 
     if reduced.col_creep is not None:
         new.creep = float(z[reduced.col_creep]) / problem.system.penalty_t
     return new
+
+
+def unknowns(problem: Problem, state: State, reduced: ReducedSystem) -> np.ndarray:
+    """The reduced unknowns z [stress] of ``state`` (the inverse of :func:`state_from_solution` on them)."""
+    sets = reduced.sets
+    parts = []
+    if problem.normal:
+        parts.append(state.p_n[sets.contact])
+    if problem.tangential:
+        parts.append(state.p_t[sets.stick])
+    if reduced.col_overlap is not None:
+        parts.append([problem.system.penalty_n * state.overlap])
+    if reduced.col_creep is not None:
+        parts.append([problem.system.penalty_t * state.creep])
+    return np.concatenate(parts) if parts else np.zeros(0)
+
+
+def friction_rows(problem: Problem, reduced: ReducedSystem, state: State) -> np.ndarray:
+    """d(A z - rhs)/d mu [stress] at fixed unknowns z = the state's and fixed node states.
+
+    mu enters only through the slip tractions p_t = sigma g = -mu sigma p_n, so this is the
+    response of the system's rows to their change dp_t/dmu = -sigma p_n on the slip nodes: the
+    contact rows r_n S_nt dp_t (coupled mode), the adhesion rows r_t B_tt dp_t and the force row
+    sum w dp_t / L (the load row does not change)."""
+    system, sets = problem.system, reduced.sets
+    out = np.zeros(reduced.rhs.size)
+    if not problem.tangential or sets.slip.size == 0:
+        return out
+    dp_t = np.zeros(system.size)
+    dp_t[sets.slip] = -sets.sigma[sets.slip] * state.p_n[sets.slip]
+    nc = sets.contact.size if problem.normal else 0
+    ns = sets.stick.size
+    if problem.normal and system.S_nt is not None:
+        out[:nc] = system.penalty_n * (system.S_nt @ dp_t)[sets.contact]
+    out[nc : nc + ns] = system.penalty_t * (system.B_tt @ dp_t)[sets.stick]
+    if reduced.col_creep is not None:
+        out[reduced.col_creep] = float(system.weights @ dp_t) / system.zone_length
+    return out
 
 
 def solve_reduced(

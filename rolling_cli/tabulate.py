@@ -1,0 +1,193 @@
+"""Building a creep-force table by adaptive sampling (``rollc table``; issue 24 item 2).
+
+The axis is the creepage normalised as u = xi R*/(mu a) (a the case's contact
+scale: the Hertz half-width of its load on two half-spaces, else the measured
+one; Carter's full slip starts at |u| = 1). Each node is one creepage-controlled
+solve on the case's own contact system (warm-started from the nearest solved
+node), giving Q/(mu P) and, from the sensitivity dQ/dxi
+(:mod:`rolling_cli.solver.sensitivity`), its slope d(Q/(mu P))/du =
+(dQ/dxi) (mu a/R*) / (mu P): the data of a cubic Hermite interpolant.
+
+Sampling: ``initial`` equally spaced nodes over [lo, hi] (an odd count puts a
+node at u = 0, where Carter's law has its second-derivative jump); then every
+interval not yet accepted is tested at its midpoint: one more solve, compared
+with the interval's Hermite prediction. An interval whose midpoint error is
+above the tolerance is split there and its halves are tested in turn; one whose
+error is within it is accepted, and its midpoint is kept as a node too (it is
+solved). The error estimate of a final interval is its parent's measured
+midpoint error: an upper estimate, since the halves of an accepted interval are
+more accurate than the whole (a cubic Hermite's error falls like h^4 on smooth
+parts and like h^2 across a jump of the second derivative, as at the onset of
+full slip). The loop stops at ``max_cases`` solves (the table is then written
+with the estimate it reached, and says so).
+
+The P held is the case's load: a table needs ``normal.load`` (under overlap
+control Q/(mu P) would mix the creepage with the load it changes).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import pipeline
+from ._version import __version__
+from .case import Case, case_to_toml
+from .errors import CaseError
+from .result import recorded, utc_timestamp
+from .solver.formulation import State
+from .table import Table, hermite
+
+log = logging.getLogger(__name__)
+
+#: Default nodes of the first pass and largest number of solves.
+INITIAL = 5
+MAX_CASES = 200
+
+
+def check_request(case: Case, lo: float, hi: float, tolerance: float, source: str | None = None) -> None:
+    """Refuse a table that cannot be built, with one line (CaseError): a tolerance <= 0, an empty or
+    reversed range, a range beyond the creepage a case may hold, overlap control, no friction."""
+    if not tolerance > 0.0:
+        raise CaseError(f"--tolerance = {tolerance!r}: allowed: > 0 (an error in Q/(mu P))", file=source)
+    if not lo < hi:
+        raise CaseError(f"--range = {lo!r}:{hi!r}: allowed: LO:HI with LO < HI (xi R*/(mu a))", file=source)
+    if case.normal.load is None:
+        raise CaseError(
+            "normal.overlap: a table holds the load P; allowed: normal.load (the overlap changes P with xi)",
+            file=source,
+            key="normal.overlap",
+        )
+    if not case.friction.mu > 0.0:
+        raise CaseError("friction.mu = 0: allowed: mu > 0 (Q/(mu P) needs friction)", file=source, key="friction.mu")
+
+
+@dataclass
+class Row:
+    """One row of a table: the normalised creepages ``nodes`` u at friction ``mu``, Q/(mu P) ``values``,
+    their slopes in u (``slopes``) and in mu at fixed u (``mu_slopes``), the error estimate of each
+    interval, the solves made and whether the estimate met the tolerance."""
+
+    mu: float
+    nodes: np.ndarray
+    values: np.ndarray
+    slopes: np.ndarray
+    mu_slopes: np.ndarray
+    intervals: np.ndarray
+    cases: int
+    met: bool
+
+
+def _row(
+    case: Case, system, the_plan, mu: float, lo: float, hi: float, tolerance: float, initial: int, budget: int, cache
+) -> Row:
+    """The adaptive sampling of one row (module docstring) at friction ``mu``, at most ``budget`` solves."""
+    scale = mu * the_plan.half_width / the_plan.radius  # xi of u = 1
+    solved: dict[float, tuple[float, float, float, State]] = {}
+    friction = dataclasses.replace(case.friction, mu=mu)
+
+    def solve_at(u: float) -> None:
+        near = min(solved, key=lambda v: abs(v - u)) if solved else None
+        start = solved[near][3] if near is not None else None
+        tangential = type(case.tangential)(creep=float(u * scale))
+        point = dataclasses.replace(case, friction=friction, tangential=tangential)
+        result = pipeline.solve(point, system=system, start=start, use_cache=cache)
+        load, ratio = recorded(result.normal_load, "normal_load"), recorded(result.q_over_mu_p, "q_over_mu_p")
+        dq_dxi, dq_dmu = recorded(result.dQ_dxi, "dQ_dxi"), recorded(result.dQ_dmu, "dQ_dmu")
+        overlap, creep = recorded(result.solved_overlap, "solved_overlap"), recorded(result.creep, "creep")
+        slope = dq_dxi * scale / (mu * load)
+        # d(Q/(mu P))/dmu at fixed u: xi = u mu a/R* moves with mu, dxi/dmu = xi/mu
+        mu_slope = (dq_dmu + creep / mu * dq_dxi) / (mu * load) - ratio / mu
+        solved[u] = (ratio, slope, mu_slope, State(result.p_n, result.p_t, overlap, creep))
+
+    def predicted(a: float, b: float, u: float) -> float:
+        nodes = np.array([a, b])
+        values = np.array([solved[a][0], solved[b][0]])
+        slopes = np.array([solved[a][1], solved[b][1]])
+        return float(hermite(nodes, values, slopes, np.array(u)))
+
+    for u in np.linspace(lo, hi, max(initial, 2)):
+        solve_at(float(u))
+    nodes = sorted(solved)
+    pending = list(zip(nodes[:-1], nodes[1:], strict=True))
+    accepted: dict[tuple[float, float], float] = {}
+    met = True
+    while pending:
+        a, b = pending.pop(0)
+        if len(solved) >= budget:
+            met = False
+            accepted[(a, b)] = np.inf
+            continue
+        m = 0.5 * (a + b)
+        solve_at(m)
+        error = abs(solved[m][0] - predicted(a, b, m))
+        if error > tolerance:
+            pending += [(a, m), (m, b)]
+        else:
+            accepted[(a, m)] = accepted[(m, b)] = error
+    nodes = sorted(solved)
+    intervals = np.array([accepted[(a, b)] for a, b in zip(nodes[:-1], nodes[1:], strict=True)])
+    columns = np.array([solved[u][:3] for u in nodes])
+    return Row(mu, np.array(nodes), columns[:, 0], columns[:, 1], columns[:, 2], intervals, len(solved), met)
+
+
+def _attributes(case: Case, the_plan, rows: list[Row], t0: float) -> dict:
+    """The table file's attributes besides the data and the tolerance."""
+    return {
+        "software_version": __version__,
+        "created": utc_timestamp(),
+        "title": case.title or "",
+        "axis": "creepage normalised as xi R*/(mu a), with its sign (xi = (V_A - V_B)/|V|)",
+        "value": "Q/(mu P): Q the tangential force on body A, P the normal load, per unit axial length",
+        "met": all(row.met for row in rows),
+        "creep_scale": case.friction.mu * the_plan.half_width / the_plan.radius,
+        "mu": case.friction.mu,
+        "half_width": the_plan.half_width,
+        "radius": the_plan.radius,
+        "load": float(case.normal.load or 0.0),
+        "cases": sum(row.cases for row in rows),
+        "time": time.perf_counter() - t0,
+        "case_toml": case_to_toml(case),
+    }
+
+
+def _prepared(case: Case, lo: float, hi: float, tolerance: float, mu_high: float, cache: bool):
+    """Check the request and build the case's plan and contact system."""
+    check_request(case, lo, hi, tolerance, case.source)
+    the_plan, system = pipeline.prepare(case, cache)
+    scale = mu_high * the_plan.half_width / the_plan.radius
+    if max(abs(lo), abs(hi)) * scale > 1.0:
+        raise CaseError(
+            f"--range = {lo:g}:{hi:g}: a creepage |xi| = {max(abs(lo), abs(hi)) * scale:.3g} > 1 at an end "
+            f"(xi = u mu a/R*, mu a/R* = {scale:.3g}); allowed: |u| <= {1.0 / scale:.4g}",
+            file=case.source,
+        )
+    return the_plan, system
+
+
+def build(
+    case: Case,
+    lo: float = -1.0,
+    hi: float = 1.0,
+    tolerance: float = 1e-3,
+    *,
+    initial: int = INITIAL,
+    max_cases: int = MAX_CASES,
+    use_cache: bool = True,
+) -> tuple[Table, np.ndarray]:
+    """The table of ``case`` over u in [lo, hi] to ``tolerance`` in Q/(mu P) (module docstring);
+    returns the table and the error estimate of each interval. Raises CaseError for a request
+    :func:`check_request` refuses (also when |xi| would exceed 1 at an end of the range) and the
+    solver's errors for a node that does not converge."""
+    t0 = time.perf_counter()
+    the_plan, system = _prepared(case, lo, hi, tolerance, case.friction.mu, use_cache)
+    row = _row(case, system, the_plan, case.friction.mu, lo, hi, tolerance, initial, max_cases, use_cache)
+    if not row.met:
+        log.warning("the table reached %d solves before its error estimate met %g", row.cases, tolerance)
+    attributes = _attributes(case, the_plan, [row], t0)
+    table = Table(row.nodes, row.values, row.slopes, float(tolerance), float(row.intervals.max()), attributes)
+    return table, row.intervals
