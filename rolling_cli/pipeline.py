@@ -1112,6 +1112,8 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
         out["creep_slope"] = float(slope)
         out["branch"] = "rising" if slope < 0.0 else "falling"
     return out
+
+
 def _sensitivities(case: Case, system: ContactSystem, state: State, converged: bool, half_width: float) -> dict:
     """The derivatives of a converged solve (:mod:`rolling_cli.solver.sensitivity`) and their time;
     NaN for a failed one (its state is no solution) or a singular final matrix (a warning)."""

@@ -94,7 +94,17 @@ class ScalarView(MutableMapping):
 
 @dataclass
 class Result(
-    Provenance, Convergence, Loads, Friction, Contact, Sensitivities, Model, Timings, Adaptive, ErrorEstimate, StressMaxima
+    Provenance,
+    Convergence,
+    Loads,
+    Friction,
+    Contact,
+    Sensitivities,
+    Model,
+    Timings,
+    Adaptive,
+    ErrorEstimate,
+    StressMaxima,
 ):
     """Arrays over the n contact nodes and the solve's declared scalars.
 
