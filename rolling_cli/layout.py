@@ -230,6 +230,8 @@ def units_of(unit_key: str | None, units: dict[str, str]) -> str | None:
         return None
     if unit_key == "stress/length":
         return f"{units['stress']}/{units['length']}"
+    if unit_key == "moment/length":
+        return f"{units['force/length']} {units['length']}"
     return units.get(unit_key, unit_key)
 
 

@@ -1011,10 +1011,15 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
     reference = {}
+    visco = a.kind == "viscoelastic" or b.kind == "viscoelastic"
+    if visco:  # rolling resistance, pressure shift, hysteresis (nothing for an elastic case)
+        from .model import resistance
+
+        attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius))
     similar = (
         effects_mod.cross_compliance(case) == 0.0
-        and a.kind != "layered"
-        and b.kind != "layered"
+        and a.kind not in ("layered", "viscoelastic")
+        and b.kind not in ("layered", "viscoelastic")
         and mu > 0.0
         and load > 0.0
     )

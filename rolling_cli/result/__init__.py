@@ -23,6 +23,7 @@ from .quantities import (
     Loads,
     Model,
     Provenance,
+    RollingResistance,
     StressMaxima,
     Timings,
     declared,
@@ -91,7 +92,9 @@ class ScalarView(MutableMapping):
 
 
 @dataclass
-class Result(Provenance, Convergence, Loads, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima):
+class Result(
+    Provenance, Convergence, Loads, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima, RollingResistance
+):
     """Arrays over the n contact nodes and the solve's declared scalars.
 
     Arrays: ``x``, ``weights`` [length]; ``p_n``, ``p_t`` [stress];

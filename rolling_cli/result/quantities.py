@@ -10,7 +10,8 @@ the writer leaves it out, as a file leaves out a variable); a result read from
 a file has the quantities that file recorded.
 
 Units are keys into the result's unit names (:attr:`Result.units`):
-``"length"``, ``"stress"``, ``"force/length"``, ``"stress/length"``, ``"1"``
+``"length"``, ``"stress"``, ``"force/length"``, ``"stress/length"``,
+``"moment/length"`` (a moment per unit axial length, force/length times length), ``"1"``
 (dimensionless: ratios, counts, flags, relative values), ``"s"`` (wall time);
 ``None`` for text and booleans, which carry no unit.
 """
@@ -24,7 +25,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 #: Unit keys a quantity may have (module docstring).
-UNIT_KEYS = ("length", "stress", "force/length", "stress/length", "1", "s", None)
+UNIT_KEYS = ("length", "stress", "force/length", "stress/length", "moment/length", "1", "s", None)
 
 
 class Quantity(NamedTuple):
@@ -221,8 +222,44 @@ class StressMaxima:
     stress_max_bond_tension_body: str | None = text("body of the largest bond tension")
 
 
+@dataclass(kw_only=True)
+class RollingResistance:
+    """Viscoelastic rolling (:mod:`rolling_cli.model.resistance`); recorded only when a body is viscoelastic."""
+
+    rolling_resistance_moment: float | None = quantity(
+        "rolling-resistance moment of the pair, sgn(V) sum w p_n x (resisting > 0)", "moment/length"
+    )
+    rolling_resistance_moment_a: float | None = quantity(
+        "moment of the contact tractions about A's shaft against its rotation, sgn(V) (sum w p_n x - R_A Q) "
+        "(NaN for a flat)",
+        "moment/length",
+    )
+    rolling_resistance_moment_b: float | None = quantity(
+        "moment of the contact tractions about B's shaft against its rotation, sgn(V) (sum w p_n x + R_B Q) "
+        "(NaN for a flat)",
+        "moment/length",
+    )
+    rolling_resistance_coefficient: float | None = quantity("rolling-resistance coefficient M / (P R*)", "1")
+    pressure_centroid: float | None = quantity("centroid of the pressure, sum w (-p_n) x / P", "length")
+    pressure_shift: float | None = quantity("shift of the pressure centroid towards the leading edge", "length")
+    hysteresis_power: float | None = quantity(
+        "hysteresis power of the bodies per unit rolling speed and axial length (loss compliance)", "force/length"
+    )
+
+
 #: The groups, in the order the file lists their variables.
-GROUPS = (Provenance, Convergence, Loads, Contact, Model, Timings, Adaptive, ErrorEstimate, StressMaxima)
+GROUPS = (
+    Provenance,
+    Convergence,
+    Loads,
+    Contact,
+    Model,
+    Timings,
+    Adaptive,
+    ErrorEstimate,
+    StressMaxima,
+    RollingResistance,
+)
 
 
 def declared() -> dict[str, Quantity]:
