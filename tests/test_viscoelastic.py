@@ -1,0 +1,306 @@
+"""Viscoelastic half-plane in steady rolling (issue 22): kernels, materials, limits, Hunter, energy, input.
+
+Each check has an independent reference: quadrature of the hereditary integral
+(kernels), the convolution identity of relaxation and creep (Prony), the
+elastic solver with the relaxed and glassy moduli (limits), a Fourier-space
+complex-modulus solution of Hunter's problem (:mod:`rolling_cli.references.hunter`),
+and the loss-compliance hysteresis (:mod:`rolling_cli.references.hysteresis`)
+for the energy balance.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from helpers import case_dict, run_cli, write_case
+from rolling_cli.case import load_case
+from rolling_cli.influence import viscoelastic as kernels
+from rolling_cli.model import viscoelastic
+from rolling_cli.pipeline import solve
+from rolling_cli.references import hertz, hunter
+
+#: A rigid roller on an incompressible SLS flat, frictionless: Hunter's problem.
+ROLLER = {
+    "title": "rigid roller on SLS",
+    "bodies": {
+        "A": {"kind": "rigid", "radius": 50.0},
+        "B": {
+            "kind": "viscoelastic",
+            "radius": "inf",
+            "young": 20.0,
+            "relaxed_young": 10.0,
+            "creep_time": 0.01,
+            "poisson": 0.5,
+        },
+    },
+    "friction": {"mu": 0.0},
+    "normal": {"load": 1.0},
+    "rolling": {"speed": 100.0},
+    "discretization": {"element": "constant", "contact_elements": 200, "zone": 1.5},
+}
+
+#: Steel on a compressible SLS polymer with friction and a tangential load (coupled: beta != 0).
+POLYMER = {
+    "title": "steel on polymer",
+    "bodies": {
+        "A": {"kind": "elastic", "radius": 50.0, "young": 210000.0, "poisson": 0.3},
+        "B": {
+            "kind": "viscoelastic",
+            "radius": 100.0,
+            "young": 3200.0,
+            "relaxed_young": 1600.0,
+            "creep_time": 0.002,
+            "poisson": 0.35,
+        },
+    },
+    "friction": {"mu": 0.3},
+    "normal": {"load": 300.0},
+    "tangential": {"q_over_mu_p": 0.5},
+    "rolling": {"speed": 1000.0, "direction": -1},
+    "discretization": {"element": "constant", "contact_elements": 100, "zone": 1.5},
+}
+
+
+def _roller_a() -> float:
+    """Relaxed Hertz half-width of ROLLER [length] (the mesh scale)."""
+    return hertz.half_width(1.0, 50.0, 10.0 / (1.0 - 0.25))
+
+
+# --- kernels and materials ------------------------------------------------------------------------
+
+
+def _hereditary(f, y: float, b: float, h: float) -> float:
+    """int_0^inf exp(-s) f(y + b s) ds by adaptive quadrature, split where y + b s crosses the element's ends."""
+    breaks = sorted(s for s in ((-0.5 * h - y) / b, (0.5 * h - y) / b) if s > 0.0)
+    edges = [0.0, *breaks]
+    total = sum(
+        quad(lambda s: math.exp(-s) * f(y + b * s), lo, hi, epsabs=1e-13, limit=200)[0]
+        for lo, hi in zip(edges[:-1], edges[1:], strict=True)
+    )
+    return total + quad(lambda s: math.exp(-s) * f(y + b * s), edges[-1], np.inf, epsabs=1e-13, limit=200)[0]
+
+
+@pytest.mark.parametrize("b", [0.01, -0.01, 0.3, -0.3, 7.0, -7.0])
+def test_kernels_match_quadrature_of_the_hereditary_integral(b):
+    """The closed-form history-averaged element kernels against scipy's quad of
+    int_0^inf e^-s K_el(y + b s) ds. Tolerance 1e-9 h: quad's absolute tolerance (1e-13) summed over
+    the pieces, far above the closed form's round-off (~1e-15 h)."""
+    h, length = 0.1, 5.0
+    for y in (0.0, 0.1, -0.2, 0.55, -1.3, 3.0):
+        log_ref = _hereditary(lambda u: float(kernels.log_element(np.array(u), h, length)), y, b, h)
+        sign_ref = _hereditary(lambda u: float(kernels.sign_element(np.array(u), h)), y, b, h)
+        assert float(kernels.log_element(np.array(y), h, length, b)) == pytest.approx(log_ref, abs=1e-9 * h)
+        assert float(kernels.sign_element(np.array(y), h, b)) == pytest.approx(sign_ref, abs=1e-9 * h)
+
+
+def test_phi_is_continuous_across_its_three_evaluations():
+    """Series, expi and asymptotic series meet: Phi(a) on both sides of |a| = 0.5 and 40 agrees to the
+    change of Phi over the step (|Phi'| <= 1/|a| + |f| < 3 there, step 1e-9: 3e-9), and Phi(0) = 0."""
+    for edge in (kernels.SERIES_BELOW, kernels.ASYMPTOTIC_ABOVE):
+        for sign in (1.0, -1.0):
+            a = sign * np.array([edge * (1.0 - 1e-9), edge * (1.0 + 1e-9)])
+            values = kernels.phi(a)
+            assert abs(values[1] - values[0]) < 3e-9 * edge
+    assert kernels.phi(np.array([0.0]))[0] == 0.0
+
+
+def test_prony_creep_compliance_inverts_the_relaxation_modulus():
+    """int_0^t E(t - s) dJ(s) = 1 for t >= 0 (J(0) E(t) + int_0^t E(t - s) J'(s) ds), by quadrature
+    (tolerance 1e-9: quad's relative tolerance with E J ~ 1), and a one-term series is the SLS with
+    the creep time tau_c = tau_r E_g / E_r (PHYSICS.md)."""
+    young, terms = 3200.0, ((800.0, 0.001), (900.0, 0.01), (300.0, 0.2))
+    model = viscoelastic.prony_relaxation(young, terms, 0.4)
+    relaxed = young - sum(e for e, _ in terms)
+    assert model.relaxed == pytest.approx(1.0 / relaxed, rel=1e-12)
+
+    def modulus(t):
+        return relaxed + sum(e * math.exp(-t / tau) for e, tau in terms)
+
+    def rate(s):
+        return sum(c / lam * math.exp(-s / lam) for c, lam in zip(model.compliances, model.times, strict=True))
+
+    for t in (0.0, 5e-4, 0.003, 0.05, 1.0):
+        total = model.glassy * modulus(t) + quad(lambda s: modulus(t - s) * rate(s), 0.0, t, epsrel=1e-12, limit=200)[0]
+        assert total == pytest.approx(1.0, abs=1e-9)
+    single = viscoelastic.prony_relaxation(3200.0, ((1600.0, 0.004),), 0.4)
+    sls = viscoelastic.standard_linear_solid(3200.0, 1600.0, 0.004 * 3200.0 / 1600.0, 0.4)
+    assert single.times[0] == pytest.approx(sls.times[0], rel=1e-12)
+    assert single.compliances[0] == pytest.approx(sls.compliances[0], rel=1e-12)
+
+
+def test_operators_give_the_dense_blocks_products():
+    """The non-symmetric viscoelastic blocks as block-Toeplitz operators (the matrix-free path)
+    multiply like the dense ones (round-off of the FFT: 1e-12 of the product's scale)."""
+    from rolling_cli.grid import ContactGrid
+
+    grid = ContactGrid(3.0, 64, 0)
+    model = viscoelastic.standard_linear_solid(20.0, 10.0, 0.01, 0.3)
+    bodies = [(None, 210.0, 0.3), (model, 20.0, 0.3)]
+    dense = kernels.pair_compliance(grid, bodies, 100.0, -1, operators=False)
+    ops = kernels.pair_compliance(grid, bodies, 100.0, -1, operators=True)
+    p = np.random.default_rng(1).normal(size=grid.size)
+    for a, b in ((dense.S_nn, ops.S_nn), (dense.S_nt, ops.S_nt), (dense.S_tt, ops.S_tt)):
+        assert not np.allclose(a, a.T)  # the history makes them non-symmetric
+        scale = np.abs(a).max() * np.abs(p).sum()
+        assert np.max(np.abs(a @ p - b @ p)) < 1e-12 * scale
+
+
+# --- solutions ------------------------------------------------------------------------------------
+
+
+def _with_speed(base: dict, ratio: float, a: float, **dotted) -> dict:
+    """``base`` with |V| such that |V| tau_c / a = ratio."""
+    tau = base["bodies"]["B"]["creep_time"]
+    return case_dict(base, **{"rolling.speed": ratio * a / tau, **dotted})
+
+
+def _elastic_twin(base: dict, young: float, zone: float) -> dict:
+    """``base`` with body B elastic of modulus ``young`` (same radius and nu), zone scaled to keep the grid."""
+    body = {k: v for k, v in base["bodies"]["B"].items() if k not in ("relaxed_young", "creep_time")}
+    body.update(kind="elastic", young=young)
+    return case_dict(base, **{"bodies.B": body, "discretization.zone": zone, "rolling.speed": None})
+
+
+def test_slow_and_fast_rolling_are_the_relaxed_and_glassy_elastic_answers():
+    """V tau_c / a -> 0 gives the elastic solution with E_r, -> inf with E_g, on the same grid (the
+    glassy twin's zone is scaled by a_r / a_g), within 1e-4 mu p0 in both tractions; the moments match
+    the elastic ones and the hysteresis vanishes. The remaining history terms are of order
+    b/h = 1e-8 / 0.03 (slow) and a/b = 1e-8 (fast) of the viscous part, far below 1e-4."""
+    base = POLYMER
+    case = load_case(base)
+    a_r = float(solve(case).mesh_half_width)
+    for ratio, young in ((1e-8, 1600.0), (1e8, 3200.0)):
+        visco = solve(load_case(_with_speed(base, ratio, a_r)))
+        a, b = case.bodies.A, case.bodies.B
+        e_star = 1.0 / ((1 - a.poisson**2) / a.young + (1 - b.poisson**2) / young)
+        r_star = 1.0 / (1.0 / a.radius + 1.0 / b.radius)
+        zone = 1.5 * a_r / hertz.half_width(300.0, r_star, e_star)
+        elastic = solve(load_case(_elastic_twin(base, young, zone)))
+        np.testing.assert_allclose(elastic.x, visco.x, rtol=0.0, atol=1e-12 * a_r)
+        scale = 0.3 * elastic.hertz_p0
+        assert np.max(np.abs(visco.p_n - elastic.p_n)) < 1e-4 * scale, ratio
+        assert np.max(np.abs(visco.p_t - elastic.p_t)) < 1e-4 * scale, ratio
+        assert visco.creep == pytest.approx(elastic.creep, rel=1e-4)
+        moment = float(visco.rolling_resistance_moment)
+        # the elastic pair has a moment too (coupling shifts its pressure), but loses nothing to hysteresis:
+        # the slow limit keeps ~ (ell/h) ln(h/ell) of the cells' traction jumps (measured 2e-6 of |V| M/R*)
+        assert moment == pytest.approx(-float(elastic.x @ (elastic.weights * elastic.p_n)), rel=1e-4)
+        assert abs(visco.hysteresis_power) < 1e-5 * abs(moment) / r_star
+
+
+def test_frictionless_rolling_resistance_vanishes_in_both_limits_and_mirrors_with_the_direction():
+    """Hunter's set-up: M/(P R) is 8.6e-3 near V tau / a = 1 and below 1e-8 (~1e-6 of the peak) at
+    1e-8 and 1e8, where it falls like V tau / a and (a / V tau) ln(V tau / a) (1.6e-7 at 1e6, measured);
+    reversing V mirrors the pressure (to the solver's tolerance, 1e-9 p0)."""
+    a = _roller_a()
+    for ratio in (1e-8, 1e8):
+        r = solve(load_case(_with_speed(ROLLER, ratio, a)))
+        assert abs(r.rolling_resistance_coefficient) < 1e-8, ratio
+    forward = solve(load_case(_with_speed(ROLLER, 1.0, a)))
+    backward = solve(load_case(_with_speed(ROLLER, 1.0, a, **{"rolling.direction": 1})))
+    assert forward.rolling_resistance_coefficient > 5e-3
+    assert backward.rolling_resistance_coefficient == pytest.approx(forward.rolling_resistance_coefficient, rel=1e-6)
+    assert forward.pressure_centroid > 0.0 > backward.pressure_centroid  # towards the leading edge
+    np.testing.assert_allclose(backward.p_n, forward.p_n[::-1], atol=1e-9 * forward.hertz_p0)
+
+
+@pytest.mark.parametrize("ratio", [0.01, 0.03, 0.1, 0.3, 1.0, 2.0, 5.0, 10.0, 30.0, 100.0])
+def test_hunter_rolling_resistance(ratio):
+    """M/(P R) of a rigid roller on an SLS flat (E_g/E_r = 2) against the Fourier-space complex-modulus
+    solution (references.hunter, a different route: complex compliance, periodic FFT kernel, active-set
+    contact) within 1 %, the issue's bound. Measured: <= 0.45 % (0.43 % at V tau / a = 0.01, where
+    the history length is below the solver's element length 0.02 a), the two discretisations' errors
+    (200 elements over 3 a_r; 60 cells per a_r in the reference)."""
+    a = _roller_a()
+    case = load_case(_with_speed(ROLLER, ratio, a))
+    result = solve(case)
+    speed = float(case.rolling.speed)
+    reference = hunter.rolling_resistance(1.0, 50.0, 20.0, 10.0, 0.01, 0.5, speed, -1, cells_per_a=60)
+    assert result.rolling_resistance_coefficient == pytest.approx(reference, rel=0.01)
+
+
+@pytest.mark.parametrize(
+    "dotted",
+    [
+        {},  # steel on polymer: coupled, Q > 0
+        {"tangential.q_over_mu_p": -0.6, "rolling.direction": 1},
+        {  # two identical polymer cylinders (Wang & Knothe's set-up): decoupled
+            "bodies.A": {
+                "kind": "viscoelastic",
+                "radius": 100.0,
+                "young": 3200.0,
+                "relaxed_young": 1600.0,
+                "creep_time": 0.002,
+                "poisson": 0.4,
+            },
+            "bodies.B.poisson": 0.4,
+        },
+    ],
+)
+def test_energy_balance(dotted):
+    """|V| M / R* = hysteresis + frictional power + xi Q |V| (README/model.resistance: the shafts'
+    power balances the losses and the work of the speed difference), within 0.5 % of |V| M / R*.
+    The hysteresis comes from the loss compliance in Fourier space (references.hysteresis), the moment
+    from the solved pressure; they agree to the discretisation's error (0.15-0.2 % at 100 elements)."""
+    case = load_case(case_dict(POLYMER, **dotted))
+    r = solve(case)
+    r_star = 1.0 / (1.0 / case.bodies.A.radius + 1.0 / case.bodies.B.radius)
+    shafts = r.rolling_resistance_moment / r_star
+    losses = r.hysteresis_power + r.frictional_power_total + r.creep * r.tangential_load
+    assert r.hysteresis_power > 0.0 and r.frictional_power_total > 0.0
+    assert losses == pytest.approx(shafts, rel=0.005)
+
+
+def test_elastic_case_pays_nothing():
+    """An elastic case records no viscoelastic quantity and its effects line says skipped."""
+    r = solve(load_case(case_dict(**{"discretization.contact_elements": 40})))
+    assert r.rolling_resistance_moment is None and r.hysteresis_power is None
+    assert "viscoelastic: skipped" in r.effects_line
+
+
+def test_effects_line_names_the_speed_ratio():
+    a = _roller_a()
+    r = solve(load_case(_with_speed(ROLLER, 1.6, a)))
+    assert "viscoelastic: simulated (B: SLS, V tau_c / a = 1.6)" in r.effects_line
+
+
+# --- bad input ------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("dotted", "expected"),
+    [
+        ({"bodies.B.relaxed_young": 30.0}, "bodies.B.relaxed_young = 30: above the glassy modulus young = 20"),
+        ({"bodies.B.creep_time": 0.0}, "bodies.B.creep_time = 0.0: out of range"),
+        ({"bodies.B.creep_time": -1.0}, "bodies.B.creep_time = -1.0: out of range"),
+        (
+            {"bodies.B.relaxed_young": None, "bodies.B.creep_time": None, "bodies.B.prony": [[5.0, 0.01], [-1.0, 0.1]]},
+            "bodies.B.prony = [[5.0, 0.01], [-1.0, 0.1]]: a non-positive modulus or time",
+        ),
+        (
+            {"bodies.B.relaxed_young": None, "bodies.B.creep_time": None, "bodies.B.prony": [[5.0, 0.0]]},
+            "a non-positive modulus or time",
+        ),
+        (
+            {"bodies.B.relaxed_young": None, "bodies.B.creep_time": None, "bodies.B.prony": [[15.0, 0.1], [6.0, 1]]},
+            "not below the glassy modulus young = 20",
+        ),
+        ({"bodies.B.prony": [[5.0, 0.01]]}, "given with bodies.B.prony"),
+        ({"bodies.B.creep_time": None}, 'bodies.B.creep_time: missing key (kind = "viscoelastic")'),
+        ({"rolling.speed": None}, 'rolling.speed: missing key (bodies.B.kind = "viscoelastic")'),
+        ({"discretization.element": "quadratic"}, 'discretization.element = "quadratic"'),
+        ({"discretization.influence": "bem"}, 'discretization.influence = "bem"'),
+        ({"bodies.A.relaxed_young": 5.0}, 'bodies.A.relaxed_young = 5.0: not used by kind = "rigid"'),
+    ],
+)
+def test_bad_input_is_one_line_exit_2(tmp_path, dotted, expected):
+    path = write_case(tmp_path, case_dict(ROLLER, **dotted))
+    result = run_cli("check", path)
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and expected in lines[0], result.output
+    assert "Traceback" not in result.output
