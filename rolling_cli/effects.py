@@ -35,6 +35,7 @@ import json
 from dataclasses import dataclass, field
 
 from . import materials
+from .case.given import given
 from .case.schema import Body, Case
 from .influence.choice import influence_model
 from .model import viscoelastic
@@ -122,7 +123,7 @@ def _relaxed_half_width(case: Case) -> float:
     a, b = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
     r_star = materials.effective_radius(a.radius, b.radius)
-    return hertz.half_width(float(case.normal.load), r_star, e_star)
+    return hertz.half_width(given(case.normal.load, "normal.load"), r_star, e_star)
 
 
 def decide(case: Case) -> Effects:

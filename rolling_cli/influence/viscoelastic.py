@@ -48,7 +48,7 @@ import numpy as np
 
 from ..grid import ContactGrid
 from ..model.viscoelastic import Viscoelastic
-from . import Compliance
+from . import Block, Compliance
 from .halfplane import _length_scale, _toeplitz_gather, use_operators
 
 EULER_GAMMA = 0.5772156649015329
@@ -183,6 +183,9 @@ def pair_compliance(
     cross = cross[:, None, None]
     if operators is None:
         operators = use_operators(grid)
+    s_nn: Block
+    s_nt: Block | None
+    s_tt: Block
     if operators:
         from .toeplitz import BlockToeplitz
 

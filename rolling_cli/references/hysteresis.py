@@ -20,36 +20,47 @@ Fourier transform, f~(k) = int f e^(-ikx) dx):
 
 For piecewise-constant tractions on a uniform grid (spacing h),
 p~(k) = h sinc(k h / 2) P(k) with P(k) = sum_j p_j exp(-i k x_j), periodic in k
-with period 2 pi / h: P is summed directly at Gauss-Legendre nodes of one
-period (:func:`_nodes`), the integral over :data:`PERIODS` periods, and the
-remaining tail, where the weight is smooth against the period, added in closed
-form (int_K^inf dk / (k (1 + k^2 ell^2)) = ln(1 + 1/(K ell)^2) / 2).
+with period 2 pi / h: P is taken at Gauss-Legendre nodes of one period
+(:func:`_spectrum`, by FFTs), and the weight summed over all periods in closed
+form (digamma functions, :func:`_period_sum`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-#: Periods of P(k) summed before the closed-form tail; Gauss-Legendre points per panel.
-PERIODS = 64
+#: Gauss-Legendre points per panel of one period of P(k).
 PANEL_POINTS = 12
+#: Degree of the Chebyshev interpolant of the digamma difference (its error ~ 5.8^-degree).
+CHEBYSHEV_DEGREE = 32
 
 
-def _nodes(h: float, extent: float, ell: float) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss-Legendre nodes and weights over one period [0, 2 pi / h) [1/length]: panels of
-    2 pi / extent (at most one oscillation of |P|^2), and below the first panel geometric
-    ones down to 1e-4 / max(ell, extent), which resolve the weight's peak at k = 1/ell."""
-    period = 2.0 * np.pi / h
-    step = 2.0 * np.pi / extent
-    uniform = np.arange(0.0, period + 0.5 * step, step)
-    uniform[-1] = period
-    small = step * 0.5 ** np.arange(1, 60)
-    small = small[small > 1e-4 / max(ell, extent)]
-    edges = np.unique(np.concatenate([[0.0], small, uniform[1:]]))
+def _spectrum(h: float, p: np.ndarray, ell: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes k [1/length] and weights over one period [0, 2 pi / h), and the
+    columns of P(k) = sum_j p_j exp(-i k j h) there for the columns of ``p`` (n, c).
+
+    Panels of 2 pi / (n h) (at most one oscillation of |P|^2): on every panel but the first the
+    Gauss point t_g gives P by one FFT of p_j exp(-i pi j (1 + t_g) / n); the first panel is cut
+    geometrically down to 1e-4 / max(ell, n h), resolving the weight's peak at k = 1/ell, and P
+    is summed directly there."""
+    n = p.shape[0]
+    step = 2.0 * np.pi / (n * h)
     t, wt = np.polynomial.legendre.leggauss(PANEL_POINTS)
-    lo, hi = edges[:-1, None], edges[1:, None]
-    k = 0.5 * (hi + lo) + 0.5 * (hi - lo) * t[None, :]
-    return k.ravel(), (0.5 * (hi - lo) * wt[None, :]).ravel()
+    j = np.arange(n)
+    k_uniform = (np.arange(1, n)[:, None] + 0.5 + 0.5 * t[None, :]) * step  # (panel, point)
+    values = np.empty((n - 1, PANEL_POINTS, p.shape[1]), dtype=complex)
+    for g, tg in enumerate(t):
+        shifted = p * np.exp(-1j * np.pi * j * (1.0 + tg) / n)[:, None]
+        values[:, g, :] = np.fft.fft(shifted, axis=0)[1:]
+    small = step * 0.5 ** np.arange(0, 60)
+    small = np.concatenate([[0.0], small[small > 1e-4 / max(ell, n * h)][::-1]])
+    lo, hi = small[:-1, None], small[1:, None]
+    k_small = (0.5 * (hi + lo) + 0.5 * (hi - lo) * t[None, :]).ravel()
+    w_small = (0.5 * (hi - lo) * wt[None, :]).ravel()
+    v_small = np.exp(-1j * np.outer(k_small, j * h)) @ p
+    k = np.concatenate([k_small, k_uniform.ravel()])
+    w = np.concatenate([w_small, np.tile(0.5 * step * wt, n - 1)])
+    return k, w, np.concatenate([v_small, values.reshape(-1, p.shape[1])])
 
 
 def loss_integrals(h: float, p_n: np.ndarray, t: np.ndarray, ell: float) -> tuple[float, float]:
@@ -61,20 +72,32 @@ def loss_integrals(h: float, p_n: np.ndarray, t: np.ndarray, ell: float) -> tupl
     if loaded.size == 0:
         return 0.0, 0.0
     p_n, t = p_n[loaded[0] : loaded[-1] + 1], t[loaded[0] : loaded[-1] + 1]
-    xj = h * np.arange(p_n.size)
-    k, wk = _nodes(h, h * p_n.size, ell)
-    phase = np.exp(-1j * np.outer(k, xj))  # P(k) = sum_j p_j exp(-i k x_j), periodic in k (2 pi / h)
-    fn, ft = phase @ p_n, phase @ t
+    k, wk, values = _spectrum(h, np.stack([p_n, t], axis=1), ell)
+    fn, ft = values[:, 0], values[:, 1]
     direct, cross = np.abs(fn) ** 2 + np.abs(ft) ** 2, np.imag(np.conj(ft) * fn)
+    weight = wk * _period_sum(k, h, ell)
+    return float(direct @ weight), float(cross @ weight)
+
+
+def _period_sum(k: np.ndarray, h: float, ell: float) -> np.ndarray:
+    """sum_{r >= 0} (h sinc(k_r h / 2))^2 k_r / (1 + k_r^2 ell^2), k_r = k + 2 pi r / h [length], for
+    0 < k < 2 pi / h: with sin^2(k_r h / 2) = sin^2(k h / 2) and the partial fractions
+    1/(k (1 + k^2 ell^2)) = 1/k - Re 1/(k - i/ell), the sum over r >= 1 is the digamma difference
+    (Re psi(1 + (k - i/ell)/P) - psi(1 + k/P)) / P, P = 2 pi / h (exact, no tail). That difference
+    is analytic in k/P on [0, 1] (its poles lie a distance >= 1 away), so it is interpolated at
+    :data:`CHEBYSHEV_DEGREE` + 1 Chebyshev points (a complex digamma costs ~30 us)."""
+    from scipy.special import psi
+
     period = 2.0 * np.pi / h
-    kk = k[None, :] + period * np.arange(PERIODS)[:, None]
-    box = h * np.sinc(kk * h / (2.0 * np.pi))  # h sin(kh/2) / (kh/2)
-    weight = wk * (box**2 * kk / (1.0 + (kk * ell) ** 2)).sum(axis=0)
-    # beyond PERIODS periods |p~|^2 w = 4 sin^2(kh/2) |P|^2 / (k (1 + k^2 ell^2)): the period mean of
-    # 4 sin^2 |P|^2 times int_K^inf dk / (k (1 + k^2 ell^2)) = ln(1 + 1/(K ell)^2) / 2
-    tail = 0.5 * np.log1p(1.0 / (period * PERIODS * ell) ** 2) / period
-    sin2 = wk * 4.0 * np.sin(k * h / 2.0) ** 2
-    return float(direct @ (weight + tail * sin2)), float(cross @ (weight + tail * sin2))
+    beta = 1.0 / (ell * period)
+
+    def difference(x):
+        return np.real(psi(1.0 + x - 1j * beta)) - psi(1.0 + x)
+
+    series = np.polynomial.chebyshev.Chebyshev.interpolate(difference, CHEBYSHEV_DEGREE, domain=[0.0, 1.0])
+    first = 1.0 / (k * (1.0 + (k * ell) ** 2))
+    rest = series(k / period) / period
+    return 4.0 * np.sin(0.5 * k * h) ** 2 * (first + rest)
 
 
 def body_power(h: float, p_n, t, compliances, lengths, poisson: float) -> float:
