@@ -10,6 +10,7 @@ for the energy balance.
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 
@@ -74,9 +75,11 @@ def _roller_a() -> float:
 # --- kernels and materials ------------------------------------------------------------------------
 
 
-def _hereditary(f, y: float, b: float, h: float) -> float:
-    """int_0^inf exp(-s) f(y + b s) ds by adaptive quadrature, split where y + b s crosses the element's ends."""
-    breaks = sorted(s for s in ((-0.5 * h - y) / b, (0.5 * h - y) / b) if s > 0.0)
+def _hereditary(f, y: float, b: float, h: float, inner=()) -> float:
+    """int_0^inf exp(-s) f(y + b s) ds by adaptive quadrature, split where y + b s crosses the element's
+    ends (length h, centred at 0) and the ``inner`` points (the quadratic's nodes, where it kinks)."""
+    points = (-0.5 * h, 0.5 * h, *inner)
+    breaks = sorted(s for s in ((p - y) / b for p in points) if s > 0.0)
     edges = [0.0, *breaks]
     total = sum(
         quad(lambda s: math.exp(-s) * f(y + b * s), lo, hi, epsabs=1e-13, limit=200)[0]
@@ -133,6 +136,65 @@ def test_prony_creep_compliance_inverts_the_relaxation_modulus():
     assert single.compliances[0] == pytest.approx(sls.compliances[0], rel=1e-12)
 
 
+def test_psi_moments_match_quadrature():
+    """Psi_j(a) = int_0^a t^j Phi(t) dt (series below |a| = 1/2, recursion above) against quad;
+    tolerance 1e-10 of the value's scale |a|^(j+1) (1 + |ln|a||) + 1e-15: quad's relative tolerance."""
+    for a in (1e-5, 0.3, -0.3, 0.4999999, 0.5000001, 2.0, -3.0, 50.0, -60.0):
+        ref = [quad(lambda t, j=j: t**j * float(kernels.phi(np.array([t]))[0]), 0.0, a, epsrel=1e-12, limit=200)[0]
+               for j in range(3)]  # fmt: skip
+        got = kernels.psi_moments(np.array([a]))[0]
+        for j in range(3):
+            scale = abs(a) ** (j + 1) * (1.0 + abs(math.log(abs(a))))
+            assert abs(got[j] - ref[j]) < 1e-10 * scale + 1e-15, (a, j)
+
+
+@pytest.mark.parametrize("b", [0.01, -0.01, 0.3, -2.0])
+def test_quadratic_kernels_match_quadrature_and_sum_to_the_constant_element(b):
+    """Quadratic-element kernels (Phi moments near, Gauss far; exponential moments) against quad of
+    the hereditary integral of the elastic quadratic-element kernels (1e-9 of the element length:
+    quad's tolerance summed over the pieces), and summed over an element's three shape functions
+    (a partition of unity) equal to the constant-element closed form to round-off (1e-13 h)."""
+    from rolling_cli.grid import ContactGrid, shape_coefficients, shape_integrals
+    from rolling_cli.influence.halfplane import _length_scale, _local_coordinates
+
+    grid = ContactGrid(1.0, 10, 2)
+    half, length = 0.5 * grid.element_length, _length_scale(grid)
+    coeff = shape_coefficients(2)
+    log_k, sign_k = kernels.quadratic_offsets(grid, b, length)
+    local = _local_coordinates(grid)
+
+    integrals = shape_integrals(2)
+
+    def log_moment(m: int, c: float) -> float:  # int_{-1}^{1} xi^m ln|xi - c| d xi, u = xi - c
+        def antiderivative(u: float, j: int) -> float:  # int_0^u t^j ln|t| dt
+            return 0.0 if u == 0.0 else u ** (j + 1) * (math.log(abs(u)) / (j + 1) - 1.0 / (j + 1) ** 2)
+
+        return sum(math.comb(m, j) * c ** (m - j) * (antiderivative(1 - c, j) - antiderivative(-1 - c, j))
+                   for j in range(m + 1))  # fmt: skip
+
+    def sign_moment(m: int, c: float) -> float:  # int_{-1}^{1} xi^m sgn(c - xi) d xi
+        t = min(max(c, -1.0), 1.0)
+        return (2.0 * t ** (m + 1) - (-1.0) ** (m + 1) - 1.0) / (m + 1)
+
+    def elastic(y, k):  # the elastic quadratic-element kernels at offset y, plain floats (fast in quad)
+        c = y / half
+        log = half * (sum(coeff[k, m] * log_moment(m, c) for m in range(3)) + math.log(half / length) * integrals[k])
+        return log, half * sum(coeff[k, m] * sign_moment(m, c) for m in range(3))
+
+    for o, a in ((9, 0), (9, 1), (10, 2), (11, 0), (13, 1), (3, 2)):  # in the source element, neighbours, farther
+        y = local[o, a] * half
+        for k in range(3):
+            log_ref = _hereditary(
+                lambda u, k=k: elastic(u, k)[0], y, b, 2.0 * half, (-2.0 / 3.0 * half, 0.0, 2.0 / 3.0 * half)
+            )
+            sign_ref = _hereditary(lambda u, k=k: elastic(u, k)[1], y, b, 2.0 * half, (0.0,))
+            assert log_k[o, a, k] == pytest.approx(log_ref, abs=1e-9 * half)
+            assert sign_k[o, a, k] == pytest.approx(sign_ref, abs=1e-9 * half)
+    y = local * half
+    np.testing.assert_allclose(log_k.sum(axis=2), kernels.log_element(y, 2.0 * half, length, b), atol=1e-13 * half)
+    np.testing.assert_allclose(sign_k.sum(axis=2), kernels.sign_element(y, 2.0 * half, b), atol=1e-13 * half)
+
+
 def test_operators_give_the_dense_blocks_products():
     """The non-symmetric viscoelastic blocks as block-Toeplitz operators (the matrix-free path)
     multiply like the dense ones (round-off of the FFT: 1e-12 of the product's scale)."""
@@ -166,12 +228,13 @@ def _elastic_twin(base: dict, young: float, zone: float) -> dict:
     return case_dict(base, **{"bodies.B": body, "discretization.zone": zone, "rolling.speed": None})
 
 
-def test_slow_and_fast_rolling_are_the_relaxed_and_glassy_elastic_answers():
+@pytest.mark.parametrize(("element", "elements"), [("constant", 100), ("quadratic", 34)])
+def test_slow_and_fast_rolling_are_the_relaxed_and_glassy_elastic_answers(element, elements):
     """V tau_c / a -> 0 gives the elastic solution with E_r, -> inf with E_g, on the same grid (the
     glassy twin's zone is scaled by a_r / a_g), within 1e-4 mu p0 in both tractions; the moments match
     the elastic ones and the hysteresis vanishes. The remaining history terms are of order
     b/h = 1e-8 / 0.03 (slow) and a/b = 1e-8 (fast) of the viscous part, far below 1e-4."""
-    base = POLYMER
+    base = case_dict(POLYMER, **{"discretization.element": element, "discretization.contact_elements": elements})
     case = load_case(base)
     a_r = float(solve(case).mesh_half_width)
     for ratio, young in ((1e-8, 1600.0), (1e8, 3200.0)):
@@ -209,18 +272,27 @@ def test_frictionless_rolling_resistance_vanishes_in_both_limits_and_mirrors_wit
     np.testing.assert_allclose(backward.p_n, forward.p_n[::-1], atol=1e-9 * forward.hertz_p0)
 
 
-@pytest.mark.parametrize("ratio", [0.01, 0.03, 0.1, 0.3, 1.0, 2.0, 5.0, 10.0, 30.0, 100.0])
-def test_hunter_rolling_resistance(ratio):
+@functools.lru_cache(maxsize=16)
+def _hunter_reference(speed: float) -> float:
+    """The Fourier-space reference of Hunter's problem for ROLLER at |V| = speed (shared by both elements)."""
+    return hunter.rolling_resistance(1.0, 50.0, 20.0, 10.0, 0.01, 0.5, speed, -1, cells_per_a=60)
+
+
+@pytest.mark.parametrize(("ratio", "element", "elements"), [
+    *((r, "constant", 200) for r in (0.01, 0.03, 0.1, 0.3, 1.0, 2.0, 5.0, 10.0, 30.0, 100.0)),
+    *((r, "quadratic", 67) for r in (0.01, 1.0, 100.0)),
+])  # fmt: skip
+def test_hunter_rolling_resistance(ratio, element, elements):
     """M/(P R) of a rigid roller on an SLS flat (E_g/E_r = 2) against the Fourier-space complex-modulus
     solution (references.hunter, a different route: complex compliance, periodic FFT kernel, active-set
     contact) within 1 %, the issue's bound. Measured: <= 0.45 % (0.43 % at V tau / a = 0.01, where
     the history length is below the solver's element length 0.02 a), the two discretisations' errors
-    (200 elements over 3 a_r; 60 cells per a_r in the reference)."""
+    (200 constant or 67 quadratic elements over 3 a_r; 60 cells per a_r in the reference)."""
     a = _roller_a()
-    case = load_case(_with_speed(ROLLER, ratio, a))
+    dotted = {"discretization.element": element, "discretization.contact_elements": elements}
+    case = load_case(_with_speed(ROLLER, ratio, a, **dotted))
     result = solve(case)
-    speed = float(case.rolling.speed)
-    reference = hunter.rolling_resistance(1.0, 50.0, 20.0, 10.0, 0.01, 0.5, speed, -1, cells_per_a=60)
+    reference = _hunter_reference(float(case.rolling.speed))
     assert result.rolling_resistance_coefficient == pytest.approx(reference, rel=0.01)
 
 
@@ -293,7 +365,7 @@ def test_effects_line_names_the_speed_ratio():
         ({"bodies.B.prony": [[5.0, 0.01]]}, "given with bodies.B.prony"),
         ({"bodies.B.creep_time": None}, 'bodies.B.creep_time: missing key (kind = "viscoelastic")'),
         ({"rolling.speed": None}, 'rolling.speed: missing key (bodies.B.kind = "viscoelastic")'),
-        ({"discretization.element": "quadratic"}, 'discretization.element = "quadratic"'),
+        ({"discretization.tolerance": 0.01}, "discretization.tolerance = 0.01: adaptive (graded) meshes"),
         ({"discretization.influence": "bem"}, 'discretization.influence = "bem"'),
         ({"bodies.A.relaxed_young": 5.0}, 'bodies.A.relaxed_young = 5.0: not used by kind = "rigid"'),
     ],

@@ -235,8 +235,8 @@ def check_body(body, key: str, file: str | None) -> None:
 
 def check_case(case, file: str | None) -> None:
     """Case-wide rules once any body is viscoelastic: ``rolling.speed`` given, the closed-form
-    half-plane with constant elements under load control (the only model with a viscoelastic
-    kernel so far)."""
+    half-plane on a uniform grid under load control (the only model with a viscoelastic kernel so
+    far)."""
     labels = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "viscoelastic"]
     if not labels:
         return
@@ -262,13 +262,6 @@ def check_case(case, file: str | None) -> None:
             'half-plane kernel; allowed: "auto" | "half-plane"',
             file=file,
             key="discretization.influence",
-        )
-    if disc.element != "constant":
-        raise CaseError(
-            f'discretization.element = "{disc.element}": the viscoelastic kernel ({first}) is integrated for '
-            'piecewise-constant tractions; allowed: "constant"',
-            file=file,
-            key="discretization.element",
         )
     if disc.tolerance is not None:
         raise CaseError(
