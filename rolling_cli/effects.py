@@ -18,6 +18,11 @@ Every skip is exact, not an approximation:
   prescribed (then p_t = 0 and xi = 0 solve it exactly).
 * **influence**: a rigid body gets no mesh and no influence computation;
   identical bodies share one.
+* **viscoelastic**: simulated when a body is ``kind = "viscoelastic"`` (the
+  steady-rolling half-plane kernels of :mod:`rolling_cli.influence.viscoelastic`,
+  the line gives V tau / a); an elastic case builds nothing for it. The
+  coupling of a pair with a viscoelastic body is skipped only when both bodies'
+  cross compliances agree at every time of the history.
 
 ``[effects] coupling = "on" | "off"`` overrides the choice; "off" on a pair that
 does couple is allowed but warned about, because it drops a real effect.
@@ -30,8 +35,10 @@ import json
 from dataclasses import dataclass, field
 
 from . import materials
+from .case.given import given
 from .case.schema import Body, Case
 from .influence.choice import influence_model
+from .model import viscoelastic
 
 __all__ = ["Effects", "decide", "identical", "cross_compliance", "influence_model"]
 
@@ -97,6 +104,9 @@ def identical(a: Body, b: Body) -> bool:
         and a.young == b.young
         and a.poisson == b.poisson
         and a.layer_thickness == b.layer_thickness
+        and a.relaxed_young == b.relaxed_young
+        and a.creep_time == b.creep_time
+        and a.prony == b.prony
     )
 
 
@@ -104,6 +114,16 @@ def cross_compliance(case: Case) -> float:
     """Kalker's K/G of the pair [1/stress] in the half-plane sense (0 means no coupling)."""
     a, b = case.bodies.A, case.bodies.B
     return materials.kalker_k_over_g(a.modulus, a.ratio, b.modulus, b.ratio)
+
+
+def _relaxed_half_width(case: Case) -> float:
+    """Hertz a [length] of the pair with the relaxed moduli (the mesh scale of a viscoelastic case)."""
+    from .references import hertz
+
+    a, b = case.bodies.A, case.bodies.B
+    e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
+    r_star = materials.effective_radius(a.radius, b.radius)
+    return hertz.half_width(given(case.normal.load, "normal.load"), r_star, e_star)
 
 
 def decide(case: Case) -> Effects:
@@ -122,6 +142,7 @@ def decide(case: Case) -> Effects:
     bem = model == "bem"
     layered = a.kind == "layered" or b.kind == "layered"
     k_over_g = cross_compliance(case)
+    visco = viscoelastic.bodies(case)
     beta = materials.dundurs_beta(a.modulus, a.ratio, b.modulus, b.ratio)
 
     if same and bem:
@@ -132,6 +153,13 @@ def decide(case: Case) -> Effects:
         physical = True
         why_zero = ""
         why_on = "a layer couples normal and tangential tractions whatever its nu (BEM cross blocks)"
+    elif visco:
+        physical = viscoelastic.cross_differs(case)
+        why_zero = "the bodies' cross compliances are equal at all times of the history, exactly decoupled"
+        why_on = (
+            "the cross compliances differ over the load history (viscoelastic body; "
+            f"beta (Dundurs) = {beta:.4g} with the relaxed moduli)"
+        )
     else:
         physical = k_over_g != 0.0
         why_zero = "beta (Dundurs) = 0, exactly decoupled" + (" (the BEM models half-spaces)" if bem else "")
@@ -190,6 +218,11 @@ def decide(case: Case) -> Effects:
     notes["friction"] = law.describe(case.units.time, case.units.length)
     if law.velocity_dependent:
         notes["friction"] += f" at |V| = {case.rolling.speed:g} {case.units.length}/{case.units.time}"
+    if visco:
+        notes["viscoelastic"] = f"simulated ({viscoelastic.speed_ratio_text(case, _relaxed_half_width(case))})"
+    else:
+        notes["viscoelastic"] = "skipped: no viscoelastic body"
+
     if case.stresses is None:
         notes["stresses"] = "skipped: not requested (no [stresses] table)"
     else:

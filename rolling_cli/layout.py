@@ -233,6 +233,8 @@ def units_of(unit_key: str | None, units: dict[str, str]) -> str | None:
     if unit_key.endswith(")") and "/(" in unit_key:  # a quotient by a compound unit: "length/(force/length)"
         numerator, denominator = unit_key[:-1].split("/(", 1)
         return f"{units_of(numerator, units)}/({units_of(denominator, units)})"
+    if unit_key == "moment/length":
+        return f"{units['force/length']} {units['length']}"
     return units.get(unit_key, unit_key)
 
 

@@ -162,6 +162,13 @@ def _layered(case: Case) -> bool:
     return case.bodies.A.kind == "layered" or case.bodies.B.kind == "layered"
 
 
+def _viscoelastic(case: Case) -> bool:
+    """A viscoelastic body: the Hertz start is off (narrower, shifted pressure), so large grids are
+    sequenced like coupled ones (measured: rigid roller on an SLS flat, 800 elements, 16 -> 7 Newton
+    iterations on the case grid)."""
+    return case.bodies.A.kind == "viscoelastic" or case.bodies.B.kind == "viscoelastic"
+
+
 def hertz_applies(case: Case) -> bool:
     """Hertz gives a and the pressure of the cold start: the load is prescribed on two half-spaces.
     Otherwise (layers, overlap control) the closed-form pressure is only a first approximation."""
@@ -470,7 +477,7 @@ class MeshPath:
         if (
             self.given is None
             and base.effects.influence == "half-plane"
-            and (base.effects.strategy == "coupled" or _sequenced_friction(case))
+            and (base.effects.strategy == "coupled" or _sequenced_friction(case) or _viscoelastic(case))
             and disc.contact_elements >= _sequencing_elements(case)
         ):
             coarse_elements = []
@@ -1052,10 +1059,15 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
     attrs.update(_sensitivities(case, system, state, converged, half_width))
     reference = {}
+    visco = a.kind == "viscoelastic" or b.kind == "viscoelastic"
+    if visco:  # rolling resistance, pressure shift, hysteresis (nothing for an elastic case)
+        from .model import resistance
+
+        attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius))
     similar = (
         effects_mod.cross_compliance(case) == 0.0
-        and a.kind != "layered"
-        and b.kind != "layered"
+        and a.kind not in ("layered", "viscoelastic")
+        and b.kind not in ("layered", "viscoelastic")
         and mu > 0.0
         and load > 0.0
     )

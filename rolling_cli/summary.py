@@ -40,6 +40,22 @@ def _sensitivity_lines(attrs, length: str, stress: str, line: str) -> list[str]:
     ]
 
 
+def _resistance_lines(attrs, length: str, line: str) -> list[str]:
+    """The viscoelastic outputs, one line each (:mod:`rolling_cli.model.resistance`)."""
+    moments = f"M = {_fmt(attrs['rolling_resistance_moment'])} {line} {length}"
+    for label in ("a", "b"):
+        value = attrs.get(f"rolling_resistance_moment_{label}", math.nan)
+        if not math.isnan(value):
+            moments += f", M_{label.upper()} = {_fmt(value)} (shaft {label.upper()})"
+    return [
+        f"  resistance     {moments}",
+        f"  coefficient    M/(P R*) = {_fmt(attrs['rolling_resistance_coefficient'])}",
+        f"  pressure shift {_fmt(attrs['pressure_shift'])} {length} towards the leading edge "
+        f"(centroid x = {_fmt(attrs['pressure_centroid'])} {length})",
+        f"  hysteresis     {_fmt(attrs['hysteresis_power'])} {line} per unit rolling speed (loss in the bodies)",
+    ]
+
+
 def summary(result: Result, output: str | None = None) -> str:
     """Multi-line text: convergence, loads, creepage, zones, effects and times."""
     u = result.units
@@ -111,6 +127,8 @@ def summary(result: Result, output: str | None = None) -> str:
             f"(of mu p0); creepage {_fmt(attrs.get('error_estimate_creep'), 3)}, load "
             f"{_fmt(attrs.get('error_estimate_load'), 3)} (relative)"
         )
+    if "rolling_resistance_moment" in attrs:  # a viscoelastic body
+        lines.extend(_resistance_lines(attrs, length, line))
     power_line = power.summary_line(attrs, line)
     if power_line:
         lines.append(power_line)

@@ -46,11 +46,18 @@ def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any)
     return field(default=default, metadata=metadata)
 
 
+def _prony(value: Any, key: str, file: str | None) -> tuple:
+    """[bodies.X] prony: [[E_i, tau_i], ...] (:func:`rolling_cli.model.viscoelastic.prony_terms`)."""
+    from ..model.viscoelastic import prony_terms
+
+    return prony_terms(value, key, file)
+
+
 @dataclass(frozen=True)
 class Body:
     """One cylinder: [bodies.A] (upper) or [bodies.B] (lower)."""
 
-    kind: str = spec("elastic", doc="body model", kind="str", choices=("elastic", "rigid", "layered"))
+    kind: str = spec("elastic", doc="body model", kind="str", choices=("elastic", "rigid", "layered", "viscoelastic"))
     radius: float = spec(
         None,
         doc="cylinder (outer) radius [length]; inf for a flat",
@@ -61,11 +68,38 @@ class Body:
         required=True,
     )
     young: float | None = spec(
-        None, doc="Young's modulus E [stress] (elastic, layered)", kind="float", ge=SMALLEST, le=LARGEST
+        None,
+        doc="Young's modulus E [stress] (elastic, layered; viscoelastic: the glassy modulus E_g)",
+        kind="float",
+        ge=SMALLEST,
+        le=LARGEST,
     )
-    poisson: float | None = spec(None, doc="Poisson's ratio nu (elastic, layered)", kind="float", ge=0.0, le=0.5)
+    poisson: float | None = spec(
+        None, doc="Poisson's ratio nu (elastic, layered, viscoelastic: constant in time)", kind="float", ge=0.0, le=0.5
+    )
     layer_thickness: float | None = spec(
         None, doc="layer thickness b [length] (layered; b < radius)", kind="float", ge=SMALLEST, le=LARGEST
+    )
+    relaxed_young: float | None = spec(
+        None,
+        doc="relaxed (long-time) modulus E_r <= young [stress] (viscoelastic SLS)",
+        kind="float",
+        gt=0.0,
+        le=LARGEST,
+    )
+    creep_time: float | None = spec(
+        None,
+        doc="creep (retardation) time tau_c of J(t) = 1/E_g + (1/E_r - 1/E_g)(1 - exp(-t/tau_c)) [time] "
+        "(viscoelastic SLS)",
+        kind="float",
+        gt=0.0,
+        le=LARGEST,
+    )
+    prony: tuple | None = spec(
+        None,
+        doc="relaxation Prony series [[E_i, tau_i], ...], E(t) = E_r + sum E_i exp(-t/tau_i), E_r = young - sum E_i "
+        "[stress, time] (viscoelastic, instead of relaxed_young and creep_time)",
+        convert=_prony,
     )
 
     @property
@@ -74,9 +108,14 @@ class Body:
 
     @property
     def modulus(self) -> float:
-        """Young's modulus for the closed forms: inf for a rigid body [stress]."""
+        """Young's modulus for the closed forms: inf for a rigid body, the relaxed modulus E_r of a
+        viscoelastic one (the mesh scale: its contact is the widest) [stress]."""
         if self.rigid:
             return math.inf
+        if self.kind == "viscoelastic":
+            from ..model.viscoelastic import relaxed_modulus
+
+            return relaxed_modulus(self)
         return given(self.young, "young")
 
     @property
@@ -176,7 +215,11 @@ class Tangential:
 class Rolling:
     direction: int = spec(-1, doc="sign of the rolling speed V (the paper uses V < 0)", kind="int", choices=(-1, 1))
     speed: float | None = spec(
-        None, doc="|V| [length/time] (needed by a velocity-dependent friction law)", kind="float", gt=0.0, le=LARGEST
+        None,
+        doc="rolling speed |V| [length/time] (required by a viscoelastic body or a slip-speed friction law)",
+        kind="float",
+        gt=0.0,
+        le=LARGEST,
     )
 
 
@@ -281,7 +324,9 @@ class Stresses:
 class Units:
     length: str = spec("mm", doc="length unit name (labels only)", kind="str", max_length=40)
     force: str = spec("N", doc="force unit name (labels only)", kind="str", max_length=40)
-    time: str = spec("s", doc="time unit name (labels only: speeds are length/time)", kind="str", max_length=40)
+    time: str = spec(
+        "s", doc="time unit name (labels only: creep times; speeds are length/time)", kind="str", max_length=40
+    )
 
     @property
     def stress(self) -> str:

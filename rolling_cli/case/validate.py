@@ -16,6 +16,7 @@ from typing import Any
 
 from ..errors import CONTROL_CHARACTERS, CaseError
 from ..influence.choice import influence_model
+from ..model import viscoelastic
 from . import schema
 
 
@@ -210,10 +211,15 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
                     f"not thinner than the body (radius {body.radius:g})",
                     f"a number < bodies.{label}.radius",
                 )
-            if body.kind == "elastic" and body.layer_thickness is not None:
+            if body.kind in ("elastic", "viscoelastic") and body.layer_thickness is not None:
                 raise _fail(
-                    file, f"{key}.layer_thickness", body.layer_thickness, 'not used by kind = "elastic"', "remove it"
+                    file,
+                    f"{key}.layer_thickness",
+                    body.layer_thickness,
+                    f'not used by kind = "{body.kind}"',
+                    "remove it",
                 )
+        viscoelastic.check_body(body, key, file)
     if case.bodies.A.rigid and case.bodies.B.rigid:
         raise CaseError(
             'bodies.B.kind = "rigid": both bodies are rigid; allowed: at least one elastic or layered body',
@@ -227,6 +233,7 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
             key="bodies.B.radius",
         )
     _one_of(case.normal, ("load", "overlap"), "normal", file, required=True)
+    viscoelastic.check_case(case, file)
     _check_overlap(case, file)
     _one_of(case.tangential, ("q_over_mu_p", "q_over_p", "load", "creep"), "tangential", file, required=False)
     disc = case.discretization

@@ -1,7 +1,9 @@
 """Choose and build the influence model of a planned case.
 
 * ``half-plane``: the closed form of :mod:`.halfplane` for the pair, with the
-  coupling blocks only when the effects call for them.
+  coupling blocks only when the effects call for them; with a viscoelastic body
+  the steady-rolling kernels of :mod:`.viscoelastic` (speed and direction
+  enter).
 * ``bem``: one BEM condensation per distinct deformable body (:mod:`.bem`):
   a half-space truncated at half-width ``block_width`` a and depth
   ``block_depth`` a (far-field displacement on the truncation, the approach
@@ -28,6 +30,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..grid import ContactGrid
+from ..model.viscoelastic import bodies as viscoelastic_bodies
+from ..model.viscoelastic import from_body
 from . import Compliance, combine, halfplane
 
 if TYPE_CHECKING:  # the BEM package (and scipy.linalg) is imported only when a BEM body is built
@@ -42,6 +46,11 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
     "closed form")."""
     a, b = case.bodies.A, case.bodies.B
     coupling = the_plan.effects.coupling
+    if the_plan.effects.influence == "half-plane" and viscoelastic_bodies(case):
+        pair = _viscoelastic(
+            the_plan.grid, _body_key(a), _body_key(b), float(case.rolling.speed), case.rolling.direction, coupling
+        )
+        return pair, {"A": "closed form", "B": "closed form"}
     if the_plan.effects.influence == "half-plane":
         pair = _halfplane(the_plan.grid, a.modulus, a.ratio, b.modulus, b.ratio, coupling)
         return pair, {"A": "closed form", "B": "closed form"}
@@ -115,6 +124,7 @@ def clear_memo() -> None:
     """Forget the in-process influence memo (benchmarks time cold builds)."""
     _memo.clear()
     _halfplane.cache_clear()
+    _viscoelastic.cache_clear()
     _prepared.cache_clear()
 
 
@@ -178,3 +188,18 @@ def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarr
 @functools.lru_cache(maxsize=8)
 def _halfplane(grid, young_a, poisson_a, young_b, poisson_b, coupling) -> Compliance:
     return halfplane.pair_compliance(grid, young_a, poisson_a, young_b, poisson_b, coupling)
+
+
+def _body_key(body) -> tuple | None:
+    """A half-plane body for :func:`.viscoelastic.pair_compliance`: None (rigid) or (creep model or
+    None, young [stress], poisson), hashable."""
+    if body.rigid:
+        return None
+    return (from_body(body), body.modulus, body.ratio)
+
+
+@functools.lru_cache(maxsize=8)
+def _viscoelastic(grid, body_a, body_b, speed, direction, coupling) -> Compliance:
+    from . import viscoelastic
+
+    return viscoelastic.pair_compliance(grid, [body_a, body_b], speed, direction, coupling)

@@ -6,7 +6,9 @@ then chosen, as it is 10-100 times cheaper than the BEM for the same
 discretisation error. The BEM is needed when the closed form does not model
 the scene: a layered body (no closed form), or an imposed overlap (the
 half-plane's approach is undefined: the log kernel leaves it free; the BEM
-half-space measures it from the points at depth D below the contact).
+half-space measures it from the points at depth D below the contact). A
+viscoelastic body has only the half-plane kernel
+(:mod:`.viscoelastic`).
 "bem" and "half-plane" force a model.
 """
 
@@ -23,6 +25,12 @@ def influence_model(case) -> tuple[str, str]:
     layered = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "layered"]
     if layered:
         return "bem", f"auto: body {' and '.join(layered)} is layered, which only the BEM models"
+    visco = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "viscoelastic"]
+    if visco:
+        return (
+            "half-plane",
+            f"auto: body {' and '.join(visco)} is viscoelastic, which the closed-form half-plane models",
+        )
     if case.normal.overlap is not None:
         return "bem", "auto: overlap control needs a definite approach, which the closed-form half-plane leaves free"
     return "half-plane", "auto: two half-spaces under load control, where the closed form is exact"

@@ -1,6 +1,9 @@
-"""Physical models beyond the elastic compliance: constitutive laws that the contact
-solver evaluates node by node (for example friction that depends on the slip speed,
-:mod:`rolling_cli.model.friction`). Each module is a set of pure, vectorised
-functions or frozen dataclasses with their units in the docstrings; the solver
-(:mod:`rolling_cli.solver`) imports them, never the other way round.
+"""The physical model beyond the linear elastic half-space: constitutive laws and body models.
+
+Each module is a set of pure, vectorised functions or frozen dataclasses with
+their units in the docstrings; the solver and the influence models import
+them, never the other way round. Friction as a law of the slip speed
+(:mod:`~rolling_cli.model.friction`), viscoelastic materials in steady rolling
+(:mod:`~rolling_cli.model.viscoelastic`: the standard linear solid and Prony
+series; the rolling resistance they cause, :mod:`~rolling_cli.model.resistance`).
 """

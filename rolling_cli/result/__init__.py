@@ -24,6 +24,7 @@ from .quantities import (
     Loads,
     Model,
     Provenance,
+    RollingResistance,
     Sensitivities,
     StressMaxima,
     Timings,
@@ -105,6 +106,7 @@ class Result(
     Adaptive,
     ErrorEstimate,
     StressMaxima,
+    RollingResistance,
 ):
     """Arrays over the n contact nodes and the solve's declared scalars.
 

@@ -10,7 +10,8 @@ the writer leaves it out, as a file leaves out a variable); a result read from
 a file has the quantities that file recorded.
 
 Units are keys into the result's unit names (:attr:`Result.units`):
-``"length"``, ``"stress"``, ``"force/length"``, ``"stress/length"``, ``"length/time"``, ``"1"``
+``"length"``, ``"stress"``, ``"force/length"``, ``"stress/length"``, ``"length/time"``,
+``"moment/length"`` (a moment per unit axial length, force/length times length), ``"1"``
 (dimensionless: ratios, counts, flags, relative values), ``"s"`` (wall time),
 the quotients ``"1/(force/length)"``, ``"length/(force/length)"``,
 ``"stress/(force/length)"`` (derivatives with respect to a load);
@@ -32,6 +33,7 @@ UNIT_KEYS = (
     "force/length",
     "stress/length",
     "length/time",
+    "moment/length",
     "1",
     "s",
     "1/(force/length)",
@@ -275,6 +277,31 @@ class Sensitivities:
     )
 
 
+@dataclass(kw_only=True)
+class RollingResistance:
+    """Viscoelastic rolling (:mod:`rolling_cli.model.resistance`); recorded only when a body is viscoelastic."""
+
+    rolling_resistance_moment: float | None = quantity(
+        "rolling-resistance moment of the pair, sgn(V) sum w p_n x (resisting > 0)", "moment/length"
+    )
+    rolling_resistance_moment_a: float | None = quantity(
+        "moment of the contact tractions about A's shaft against its rotation, sgn(V) (sum w p_n x - R_A Q) "
+        "(NaN for a flat)",
+        "moment/length",
+    )
+    rolling_resistance_moment_b: float | None = quantity(
+        "moment of the contact tractions about B's shaft against its rotation, sgn(V) (sum w p_n x + R_B Q) "
+        "(NaN for a flat)",
+        "moment/length",
+    )
+    rolling_resistance_coefficient: float | None = quantity("rolling-resistance coefficient M / (P R*)", "1")
+    pressure_centroid: float | None = quantity("centroid of the pressure, sum w (-p_n) x / P", "length")
+    pressure_shift: float | None = quantity("shift of the pressure centroid towards the leading edge", "length")
+    hysteresis_power: float | None = quantity(
+        "hysteresis power of the bodies per unit rolling speed and axial length (loss compliance)", "force/length"
+    )
+
+
 #: The groups, in the order the file lists their variables.
 GROUPS = (
     Provenance,
@@ -283,11 +310,13 @@ GROUPS = (
     Friction,
     Contact,
     Sensitivities,
+    RollingResistance,
     Model,
     Timings,
     Adaptive,
     ErrorEstimate,
     StressMaxima,
+    RollingResistance,
 )
 
 

@@ -1,0 +1,340 @@
+"""Closed-form steady-rolling influence of viscoelastic half-planes (constant and quadratic elements).
+
+A body with creep compliance J(t) = J_g + sum_i c_i (1 - exp(-t/lambda_i))
+(:mod:`rolling_cli.model.viscoelastic`) and constant nu rolls at speed |V|:
+the material moves through the contact towards sgn(V), so the point now at x
+was at x - sgn(V) |V| t a time t ago (Kalker 1990, App. D; Hunter 1961).
+Boltzmann superposition, integrated by parts, gives its surface displacement
+as the elastic one (unit modulus, kernel k(x)) weighted by J over the load
+history met upstream:
+
+    u(x) = J_g k[p](x) + sum_i c_i C_i[k[p]](x),
+    C_i[f](x) = int_0^inf exp(-s) f(x + b_i s) ds,   b_i = -sgn(V) |V| lambda_i,
+
+so C_i averages f over the upstream length ell_i = |V| lambda_i. b_i -> 0
+gives the relaxed elastic body (J_g + sum c_i = 1/E_r), |b_i| -> inf the
+glassy one (C_i[f] tends to a rigid constant).
+
+For a unit traction on an element of length h centred at offset y from the
+target node, the elastic element integrals of the two half-plane kernels are
+(G(u) = u ln|u| - u, L the log kernel's reference length)
+
+    log:  E(y) = G(y + h/2) - G(y - h/2) - h ln L
+    sign: S(y) = |y + h/2| - |y - h/2|
+
+and C commutes with the x-derivative, with C[f] = f + b C[f'] (by parts), so
+
+    C[E](y) = E(y) + b [Phi((y + h/2)/b) - Phi((y - h/2)/b)],
+    Phi(a)  = ln|a| + gamma - e^a Ei(-a)          (Ei the exponential integral, principal value),
+    C[S](y) = S(y) + 2|b| [expm1(min(a+, 0)) - expm1(min(a-, 0))],   a+- = (y +- h/2)/b,
+
+exact (constants that cancel between the element's ends are dropped). Phi is
+evaluated by its power series for |a| < 1/2, by scipy's ``expi`` up to
+|a| = 40 and by the asymptotic series beyond, so neither limit loses digits.
+Quadratic elements need the moments int xi^m Phi and int xi^m e^(...) over the
+element (:func:`quadratic_offsets`): from the antiderivatives of t^j Phi(t)
+near the element, by Gauss-Legendre farther.
+
+The blocks keep the half-plane's structure: Toeplitz on a uniform grid (now not
+symmetric: the history runs one way), S_tt = -S_nn and S_tn = S_nt, per body,
+with the direct factor 2 (1 - nu^2)/pi and the cross factor (1 - 2 nu)(1 + nu)/2
+times the J-weighted kernels. Each body is convolved with its own J, so the
+normal-tangential coupling (beta) of dissimilar or differently relaxing bodies
+varies along the history exactly as the materials do (with nu constant).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..grid import ContactGrid
+from ..model.viscoelastic import Viscoelastic
+from . import Block, Compliance
+from .halfplane import _length_scale, _toeplitz_gather, use_operators
+
+EULER_GAMMA = 0.5772156649015329
+
+#: |a| below which Phi is summed by its power series, and above which by its asymptotic series.
+SERIES_BELOW = 0.5
+ASYMPTOTIC_ABOVE = 40.0
+
+
+def phi(a) -> np.ndarray:
+    """Phi(a) = ln|a| + gamma - e^a Ei(-a) [-], Phi(0) = 0; continuous, ~ -a (ln|a| + gamma - 1) near 0,
+    ~ ln|a| + gamma + 1/a for large |a|."""
+    from scipy.special import expi
+
+    a = np.asarray(a, dtype=float)
+    out = np.empty_like(a)
+    small = np.abs(a) < SERIES_BELOW
+    large = np.abs(a) > ASYMPTOTIC_ABOVE
+    middle = ~(small | large)
+    if middle.any():
+        am = a[middle]
+        out[middle] = np.log(np.abs(am)) + EULER_GAMMA - np.exp(am) * expi(-am)
+    if small.any():
+        # Ei(-a) = gamma + ln|a| + S(a), S = sum_k (-a)^k / (k k!):
+        # Phi = -(e^a - 1)(ln|a| + gamma) - e^a S(a).
+        a_s = a[small]
+        term = np.ones_like(a_s)
+        series = np.zeros_like(a_s)
+        for k in range(1, 25):
+            term = term * (-a_s) / k
+            series += term / k
+        with np.errstate(divide="ignore", invalid="ignore"):
+            log_part = np.where(
+                a_s == 0.0, 0.0, np.expm1(a_s) * (np.log(np.abs(np.where(a_s == 0.0, 1.0, a_s))) + EULER_GAMMA)
+            )
+        out[small] = -log_part - np.exp(a_s) * series
+    if large.any():
+        # -e^a Ei(-a) ~ sum_k (-1)^k k! / a^(k+1), the same series for either sign of a.
+        a_l = a[large]
+        term = 1.0 / a_l
+        tail = term.copy()
+        for k in range(1, 30):
+            term = term * (-k) / a_l
+            tail += term
+        out[large] = np.log(np.abs(a_l)) + EULER_GAMMA + tail
+    return out
+
+
+def _g(u: np.ndarray) -> np.ndarray:
+    """G(u) = u ln|u| - u [length], G(0) = 0."""
+    absu = np.abs(u)
+    return np.where(absu > 0.0, u * np.log(np.where(absu > 0.0, absu, 1.0)), 0.0) - u
+
+
+def log_element(y, h: float, length_scale: float, b: float = 0.0) -> np.ndarray:
+    """C_b[E](y): int over a unit-traction element of length h [length] at offset y [length] of
+    ln(|x - s| / length_scale), averaged over the history with the length b [length] (0: elastic)."""
+    y = np.asarray(y, dtype=float)
+    out = _g(y + 0.5 * h) - _g(y - 0.5 * h) - h * math.log(length_scale)
+    if b != 0.0:
+        out = out + b * (phi((y + 0.5 * h) / b) - phi((y - 0.5 * h) / b))
+    return out
+
+
+def sign_element(y, h: float, b: float = 0.0) -> np.ndarray:
+    """C_b[S](y): int over the element of sgn(x - s) [length], history-averaged with the length b [length]."""
+    y = np.asarray(y, dtype=float)
+    out = np.abs(y + 0.5 * h) - np.abs(y - 0.5 * h)
+    if b != 0.0:
+        hi = np.minimum((y + 0.5 * h) / b, 0.0)
+        lo = np.minimum((y - 0.5 * h) / b, 0.0)
+        out = out + 2.0 * abs(b) * (np.expm1(hi) - np.expm1(lo))
+    return out
+
+
+def _phi_series() -> tuple[np.ndarray, np.ndarray]:
+    """(p_n, q_n), n = 1..:data:`PHI_TERMS`: Phi(a) = sum_n (p_n ln|a| + q_n) a^n near 0, from
+    Phi = -(e^a - 1)(ln|a| + gamma) - e^a S(a), S(a) = sum_k (-a)^k / (k k!)."""
+    n = np.arange(1, PHI_TERMS + 1)
+    fact = np.array([math.factorial(int(k)) for k in range(PHI_TERMS + 1)], dtype=float)
+    p = -1.0 / fact[n]
+    q = -EULER_GAMMA / fact[n]
+    for i, order in enumerate(n):
+        k = np.arange(1, order + 1)
+        q[i] -= float(np.sum((-1.0) ** k / (k * fact[k] * fact[order - k])))
+    return p, q
+
+
+PHI_TERMS = 25
+_PHI_P, _PHI_Q = _phi_series()
+
+
+def psi_moments(a, top: int = 2) -> np.ndarray:
+    """Psi_j(a) = int_0^a t^j Phi(t) dt [-], j = 0..top, shape a.shape + (top + 1,): the power series
+    for |a| < 1/2, else the recursion Psi_j = a^j Phi - j Psi_(j-1) + a^(j+1) ((ln|a| + gamma)/(j + 1)
+    - 1/(j + 1)^2) (by parts with Phi' = Phi - ln|a| - gamma), which cancels only near 0."""
+    a = np.asarray(a, dtype=float)
+    out = np.zeros(a.shape + (top + 1,))
+    small = np.abs(a) < SERIES_BELOW
+    if small.any():
+        s = a[small]
+        log = np.log(np.abs(np.where(s == 0.0, 1.0, s)))
+        for j in range(top + 1):
+            total = np.zeros_like(s)
+            for i in range(PHI_TERMS):
+                m = i + 1 + j + 1  # power of a after integrating t^(n + j), n = i + 1
+                total += (_PHI_P[i] * (log / m - 1.0 / m**2) + _PHI_Q[i] / m) * s**m
+            out[small, j] = total
+    big = ~small
+    if big.any():
+        b = a[big]
+        f = phi(b)
+        log = np.log(np.abs(b))
+        prev = np.zeros_like(b)
+        for j in range(top + 1):
+            prev = b**j * f - j * prev + b ** (j + 1) * ((log + EULER_GAMMA) / (j + 1) - 1.0 / (j + 1) ** 2)
+            out[big, j] = prev
+    return out
+
+
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
+#: Breakpoints of the Gauss-Legendre panels of the exponential moments (e^-60 ~ 1e-26 beyond).
+_TAU_BREAKS = np.array([0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 60.0])
+
+
+def phi_moments(c, beta: float) -> np.ndarray:
+    """M_m(c) = int_{-1}^{1} xi^m Phi((c - xi) / beta) d xi [-], m = 0, 1, 2, for local coordinates c
+    (shape c.shape + (3,)); beta = b / (half the element length). Near the element (|c| <= 2) by
+    the antiderivatives (:func:`psi_moments`): M_m = beta sum_j C(m, j) c^(m-j) (-beta)^j
+    [Psi_j((c + 1)/beta) - Psi_j((c - 1)/beta)]; farther by 12-point Gauss-Legendre on the integrand,
+    analytic on the element (its branch point xi = c lies outside the Bernstein ellipse of parameter
+    3.7: error < 1e-14, as :mod:`rolling_cli.kernels`)."""
+    c = np.asarray(c, dtype=float)
+    out = np.empty(c.shape + (3,))
+    near = np.abs(c) <= 2.0
+    if near.any():
+        cn = c[near]
+        upper = psi_moments((cn + 1.0) / beta)
+        lower = psi_moments((cn - 1.0) / beta)
+        diff = upper - lower
+        for m in range(3):
+            total = np.zeros_like(cn)
+            for j in range(m + 1):
+                total += math.comb(m, j) * cn ** (m - j) * (-beta) ** j * diff[:, j]
+            out[near, m] = beta * total
+    far = ~near
+    if far.any():
+        cf = c[far]
+        values = phi((cf[:, None] - _GL_X[None, :]) / beta)  # (points, gauss)
+        for m in range(3):
+            out[far, m] = values @ (_GL_W * _GL_X**m)
+    return out
+
+
+def exp_moments(c, beta: float) -> np.ndarray:
+    """X_m(c) = int xi^m exp((c - xi) / beta) d xi over the part of [-1, 1] where (c - xi) / beta < 0
+    (upstream of the target) [-], m = 0, 1, 2, shape c.shape + (3,). With tau = (xi - c) / beta >= 0,
+    X_m = |beta| int (c + beta tau)^m e^-tau d tau, by 12-point Gauss-Legendre on the panels between
+    :data:`_TAU_BREAKS` (each panel's integrand is a polynomial times e^-tau: error < 1e-13)."""
+    c = np.asarray(c, dtype=float)
+    t1, t2 = (-1.0 - c) / beta, (1.0 - c) / beta
+    lo = np.maximum(0.0, np.minimum(t1, t2))
+    hi = np.maximum(0.0, np.maximum(t1, t2))
+    out = np.zeros(c.shape + (3,))
+    for left, right in zip(_TAU_BREAKS[:-1], _TAU_BREAKS[1:], strict=True):
+        a = np.clip(left, lo, hi)
+        b = np.clip(right, lo, hi)
+        half = 0.5 * (b - a)
+        tau = (0.5 * (a + b))[..., None] + half[..., None] * _GL_X  # (..., gauss)
+        xi = c[..., None] + beta * tau
+        weight = half[..., None] * _GL_W * np.exp(-tau)
+        for m in range(3):
+            out[..., m] += np.sum(weight * xi**m, axis=-1)
+    return abs(beta) * out
+
+
+def quadratic_offsets(grid: ContactGrid, b: float, length_scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """(C_b[log], C_b[sign]) element-offset blocks of a uniform quadratic-element grid, shape
+    (2 N_e - 1, 3, 3) [length] (indexed as :func:`~.halfplane.log_offsets`): for shape function
+    N_k, with s = centre + h xi (h half the element) and beta = b / h,
+
+        C_b[int N_k ln(|x - s|/L) ds] = h [sum_m A_km M_m(c) + (ln|b| - gamma - ln L) int N_k],
+        C_b[int N_k sgn(x - s) ds]    = h sum_m A_km [G_m(c) + 2 sgn(b) X_m(c)],
+
+    since C_b[ln|u|] = Phi(u/b) + ln|b| - gamma and C_b[sgn u] = sgn u - 2 sgn(u) e^(u/b) for u/b < 0
+    (M: :func:`phi_moments`, X: :func:`exp_moments`, G: :func:`~rolling_cli.kernels.sign_moments`)."""
+    from ..grid import shape_coefficients, shape_integrals
+    from ..kernels import sign_moments
+    from .halfplane import _local_coordinates
+
+    half = 0.5 * grid.element_length
+    beta = b / half
+    c = _local_coordinates(grid)  # (o, a)
+    coeff = shape_coefficients(grid.order)
+    constant = math.log(abs(b)) - EULER_GAMMA - math.log(length_scale)
+    log_k = half * (np.einsum("oam,km->oak", phi_moments(c, beta), coeff) + constant * shape_integrals(grid.order))
+    signs = sign_moments(c)[..., :3] + 2.0 * math.copysign(1.0, b) * exp_moments(c, beta)
+    sign_k = half * np.einsum("oam,km->oak", signs, coeff)
+    return log_k, sign_k
+
+
+def history_lengths(model: Viscoelastic, speed: float, direction: int) -> tuple[float, ...]:
+    """b_i = -sgn(V) |V| lambda_i [length]: the signed upstream lengths of the terms."""
+    return tuple(-float(direction) * ell for ell in model.lengths(speed))
+
+
+def body_offsets(
+    grid: ContactGrid, model: Viscoelastic | None, young: float, poisson: float, speed: float, direction: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """(direct, cross) element-offset blocks [length/stress] of one half-plane body, shape
+    (2 N_e - 1, m, m) (m nodes per element; indexed as :func:`~.halfplane.log_offsets`): the response
+    at node a of element e + o to a unit traction at node k of element e.
+
+    ``model`` None is an elastic body of ``young`` [stress]; a viscoelastic one is J-weighted.
+    Constant elements use the closed forms :func:`log_element` and :func:`sign_element`, quadratic
+    ones :func:`quadratic_offsets`.
+    """
+    if not grid.uniform:
+        raise ValueError("the viscoelastic kernel needs a uniform grid")
+    scale = _length_scale(grid)
+    if grid.order == 0:
+        ne, h = grid.elements, grid.element_length
+        y = np.arange(-(ne - 1), ne) * h
+
+        def kernels(b: float) -> tuple[np.ndarray, np.ndarray]:
+            return log_element(y, h, scale, b)[:, None, None], sign_element(y, h, b)[:, None, None]
+    else:
+        from .halfplane import log_offsets, sign_offsets
+
+        def kernels(b: float) -> tuple[np.ndarray, np.ndarray]:
+            if b == 0.0:
+                return log_offsets(grid, scale), sign_offsets(grid)
+            return quadratic_offsets(grid, b, scale)
+
+    log_k, sign_k = kernels(0.0)
+    if model is None:
+        log_k, sign_k, nu = log_k / young, sign_k / young, poisson
+    else:
+        log_k, sign_k, nu = model.glassy * log_k, model.glassy * sign_k, model.poisson
+        for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True):
+            log_b, sign_b = kernels(b)
+            log_k = log_k + c * log_b
+            sign_k = sign_k + c * sign_b
+    return 2.0 * (1.0 - nu**2) / np.pi * log_k, 0.5 * (1.0 - 2.0 * nu) * (1.0 + nu) * sign_k
+
+
+def pair_compliance(
+    grid: ContactGrid,
+    bodies: list[tuple[Viscoelastic | None, float, float] | None],
+    speed: float,
+    direction: int,
+    coupling: bool = True,
+    operators: bool | None = None,
+) -> Compliance:
+    """Compliance of a half-plane pair with viscoelastic bodies [length/stress].
+
+    ``bodies``: for A and B, ``None`` (rigid) or (model, young, poisson), model None for an elastic
+    body. ``speed`` |V| [length/time], ``direction`` sgn(V). Direct blocks add, cross blocks
+    subtract (as :func:`rolling_cli.influence.combine`); the blocks are dense, or block-Toeplitz
+    operators with the same entries (``operators``; None: :func:`~.halfplane.use_operators`).
+    """
+    m = grid.nodes_per_element
+    direct = np.zeros((2 * grid.elements - 1, m, m))
+    cross = np.zeros_like(direct)
+    for sign, body in zip((1.0, -1.0), bodies, strict=True):
+        if body is None:
+            continue
+        d, c = body_offsets(grid, body[0], body[1], body[2], speed, direction)
+        direct += d
+        cross += sign * c
+    if operators is None:
+        operators = use_operators(grid)
+    s_nn: Block
+    s_nt: Block | None
+    s_tt: Block
+    if operators:
+        from .toeplitz import BlockToeplitz
+
+        s_nn = BlockToeplitz(direct)
+        s_nt = BlockToeplitz(cross) if coupling else None
+        s_tt = -s_nn
+    else:
+        s_nn = _toeplitz_gather(grid, direct)
+        s_nt = _toeplitz_gather(grid, cross) if coupling else None
+        s_tt = np.negative(s_nn)
+    return Compliance(x=grid.x, weights=grid.weights, S_nn=s_nn, S_tt=s_tt, S_nt=s_nt, S_tn=s_nt)

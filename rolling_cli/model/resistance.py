@@ -1,0 +1,89 @@
+"""Rolling resistance of a solved viscoelastic case: moments, coefficient, pressure shift, hysteresis.
+
+Frame and signs (README "Units and conventions"): x along the rolling
+direction, the cylinders' centres on x = 0, p_n <= 0, p_t the traction on A,
+V = sgn(V) |V| the velocity of the material through the contact. Per unit
+axial length:
+
+* moment of the contact tractions about A's shaft, taken positive when it
+  opposes A's rotation: M_A = sgn(V) (sum w p_n x - R_A Q); about B's shaft
+  M_B = sgn(V) (sum w p_n x + R_B Q) (NaN for a flat body, whose shaft is at
+  infinity);
+* the pair's rolling-resistance moment M = sgn(V) sum w p_n x
+  (= R* (M_A/R_A + M_B/R_B): the shafts' power at the common speed |V| is
+  |V| M / R*) and the coefficient M / (P R*), which for a cylinder on a flat
+  without friction is Hunter's x_c / R;
+* the pressure centroid x_c = sum w (-p_n) x / P (moves towards the leading
+  edge, x_c sgn(V) < 0) and the shift towards the leading edge,
+  -sgn(V) x_c;
+* the hysteresis power in the bodies per unit |V|, from the loss compliance
+  (:mod:`rolling_cli.references.hysteresis`, an independent route; quadratic
+  elements enter as cell averages, :func:`quadratic_cells`).
+
+In steady state the shafts' power balances the losses: |V| M / R* =
+hysteresis + frictional power + xi Q |V| (the last the power of the speed
+difference V_A - V_B = xi |V| through Q).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..references import hysteresis
+from . import viscoelastic
+
+#: Cells per quadratic element for the hysteresis (the Fourier formula takes piecewise-constant
+#: tractions): the cell averages of the element's quadratic. The step approximation adds a loss of
+#: order ell sum(jumps^2) ln(1/(k ell)) from its jumps of ~ (h / cells) p'; at 12 cells the energy
+#: balance closes to 1e-4 (tests/test_viscoelastic.py).
+QUADRATIC_CELLS = 12
+
+
+def quadratic_cells(p: np.ndarray) -> np.ndarray:
+    """Cell averages [stress] of the piecewise-quadratic traction with nodal values ``p`` (3 per
+    element, local coordinates -2/3, 0, 2/3) on :data:`QUADRATIC_CELLS` equal cells per element."""
+    from ..grid import shape_coefficients
+
+    edges = np.linspace(-1.0, 1.0, QUADRATIC_CELLS + 1)
+    powers = np.arange(3)
+    antiderivative = edges[:, None] ** (powers + 1) / (powers + 1)  # int_0^xi xi^m
+    means = np.diff(antiderivative, axis=0) / np.diff(edges)[:, None]  # (cells, m)
+    averages = means @ shape_coefficients(2).T  # (cells, k): mean of N_k over each cell
+    return (np.asarray(p, dtype=float).reshape(-1, 3) @ averages.T).reshape(-1)
+
+
+def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) -> dict:
+    """The rolling-resistance quantities of a solved viscoelastic case (declared in
+    :mod:`rolling_cli.result.quantities`); ``radius`` R* [length], ``system`` its
+    :class:`~rolling_cli.system.ContactSystem` (node positions, weights, spacing)."""
+    x, w = system.x, system.weights
+    d = float(case.rolling.direction)
+    load = float(-(w @ p_n))
+    q = float(w @ p_t)
+    first = float(w @ (p_n * x))
+    centroid = -first / load if load > 0.0 else math.nan
+    moment = d * first
+    r_a, r_b = float(case.bodies.A.radius), float(case.bodies.B.radius)
+    m_a = d * (first - r_a * q) if math.isfinite(r_a) else math.nan
+    m_b = d * (first + r_b * q) if math.isfinite(r_b) else math.nan
+    speed = float(case.rolling.speed)
+    h = float(system.spacing)
+    cells_n, cells_t = p_n, p_t
+    if case.discretization.element == "quadratic":  # the quadratics as cell averages (3 nodes, h/3 apart)
+        h = 3.0 * h / QUADRATIC_CELLS
+        cells_n, cells_t = quadratic_cells(p_n), quadratic_cells(p_t)
+    power = 0.0
+    for label, model in viscoelastic.bodies(case).items():
+        t = cells_t if label == "A" else -cells_t
+        power += hysteresis.body_power(h, cells_n, t, model.compliances, model.lengths(speed), model.poisson)
+    return {
+        "rolling_resistance_moment": moment,
+        "rolling_resistance_moment_a": m_a,
+        "rolling_resistance_moment_b": m_b,
+        "rolling_resistance_coefficient": moment / (load * radius) if load > 0.0 else math.nan,
+        "pressure_centroid": centroid,
+        "pressure_shift": -d * centroid,
+        "hysteresis_power": power,
+    }
