@@ -301,7 +301,7 @@ def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[f
     if problem.friction is not None:
         from . import velocity
 
-        return velocity.creep_sensitivity(problem, state, ev)
+        return velocity.creep_derivatives(problem, state, ev)
     sets = node_sets(problem, state, ev)
     reduced = reduced_system(problem, state, sets, ev)
     if reduced.creep_column is None:

@@ -170,9 +170,18 @@ def newton_point(problem: Problem, state: State, ev: Evaluation) -> State:
 
 def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
     """dQ/dxi [force/length] at fixed node states (creepage held), d mu/d s_a included."""
+    return creep_derivatives(problem, state, ev)[0]
+
+
+def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[float, np.ndarray]:
+    """dQ/dxi [force/length] and dp_n/dxi [stress] (zero where p_n is held) at fixed node states
+    (creepage held), d mu/d s_a included (see :func:`rolling_cli.solver.reduced.creep_derivatives`)."""
     reduced = velocity_system(problem, state, ev)
     if reduced.creep_column is None:
         raise ValueError("the creep sensitivity needs the creepage held")
     dz = solve_dense(reduced.matrix, reduced.creep_column)
     nc, nt = reduced.contact.size, reduced.traction.size
-    return float(problem.system.weights[reduced.traction] @ dz[nc : nc + nt])
+    dp_n = np.zeros_like(state.p_n)
+    if problem.normal:
+        dp_n[reduced.contact] = dz[:nc]
+    return float(problem.system.weights[reduced.traction] @ dz[nc : nc + nt]), dp_n
