@@ -34,7 +34,6 @@ MU_SMALLEST = 1e-6
 MU_LARGEST = 100.0
 
 
-
 def spec(default: Any = None, *, doc: str, required: bool = False, **rules: Any) -> Any:
     """A dataclass field with validation rules in its metadata.
 
@@ -68,10 +67,36 @@ class Body:
     layer_thickness: float | None = spec(
         None, doc="layer thickness b [length] (layered; b < radius)", kind="float", ge=SMALLEST, le=LARGEST
     )
+    shape: str = spec(
+        "half-space",
+        doc="what the influence model represents: the half-space near the contact, or the whole cross-section",
+        kind="str",
+        choices=("half-space", "cylinder"),
+    )
+    inner_radius: float | None = spec(
+        None,
+        doc="bore radius r_i [length], bonded to a rigid shaft (shape = cylinder, elastic; 0 < r_i < radius)",
+        kind="float",
+        ge=SMALLEST,
+        le=LARGEST,
+    )
 
     @property
     def rigid(self) -> bool:
         return self.kind == "rigid"
+
+    @property
+    def finite(self) -> bool:
+        """True for ``shape = "cylinder"``: the whole cross-section is modelled (:mod:`rolling_cli.model.shapes`)."""
+        return self.shape == "cylinder"
+
+    @property
+    def core_radius(self) -> float:
+        """The radius of the rigid shaft or core of a finite cylinder [length]: the bore
+        (elastic) or radius - layer_thickness (layered)."""
+        if self.kind == "layered":
+            return float(self.radius) - float(given(self.layer_thickness, "layer_thickness"))
+        return float(given(self.inner_radius, "inner_radius"))
 
     @property
     def modulus(self) -> float:

@@ -214,6 +214,7 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
                 raise _fail(
                     file, f"{key}.layer_thickness", body.layer_thickness, 'not used by kind = "elastic"', "remove it"
                 )
+    _check_shapes(case, file)
     if case.bodies.A.rigid and case.bodies.B.rigid:
         raise CaseError(
             'bodies.B.kind = "rigid": both bodies are rigid; allowed: at least one elastic or layered body',
@@ -255,6 +256,78 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
     kind, value = case.tangential.control()
     if kind == "q_over_mu_p" and mu == 0.0:
         raise _fail(file, "tangential.q_over_mu_p", value, "undefined for friction.mu = 0", "tangential.load or creep")
+
+
+def _check_shapes(case: schema.Case, file: str | None) -> None:
+    """``shape`` and ``inner_radius``: a finite cylinder is an elastic or layered body of finite
+    radius, its bore (elastic) inside it, its counterpart rigid or a finite cylinder of the same
+    radius (the contact nodes of the two arcs then face each other), on the BEM."""
+    for label in ("A", "B"):
+        body = getattr(case.bodies, label)
+        key = f"bodies.{label}"
+        if body.rigid:
+            if body.shape != "half-space":
+                raise _fail(file, f"{key}.shape", body.shape, "a rigid body has no elastic shape", "remove it")
+            if body.inner_radius is not None:
+                raise _fail(file, f"{key}.inner_radius", body.inner_radius, 'not used by kind = "rigid"', "remove it")
+            continue
+        if not body.finite:
+            if body.inner_radius is not None:
+                raise _fail(
+                    file, f"{key}.inner_radius", body.inner_radius, 'not used by shape = "half-space"', "remove it"
+                )
+            continue
+        if math.isinf(body.radius):
+            raise _fail(
+                file,
+                f"{key}.radius",
+                body.radius,
+                'a flat has no finite cross-section (shape = "cylinder")',
+                "a finite radius",
+            )
+        if body.kind == "layered":
+            if body.inner_radius is not None:
+                raise _fail(
+                    file,
+                    f"{key}.inner_radius",
+                    body.inner_radius,
+                    "not used by a layered cylinder (its rigid core has radius radius - layer_thickness)",
+                    "remove it",
+                )
+            continue
+        if body.inner_radius is None:
+            raise CaseError(
+                f'{key}.inner_radius: missing key (shape = "cylinder"); allowed: a number in (0, {body.radius:g})',
+                file=file,
+                key=f"{key}.inner_radius",
+            )
+        if not body.inner_radius < body.radius:
+            raise _fail(
+                file,
+                f"{key}.inner_radius",
+                body.inner_radius,
+                f"not inside the body (radius {body.radius:g})",
+                f"a number < bodies.{label}.radius",
+            )
+    a, b = case.bodies.A, case.bodies.B
+    for label, body, other in (("A", a, b), ("B", b, a)):
+        if body.finite and not other.rigid and not (other.finite and other.radius == body.radius):
+            olabel = "B" if label == "A" else "A"
+            raise _fail(
+                file,
+                f"bodies.{olabel}.shape",
+                other.shape,
+                f"against the finite cylinder bodies.{label} (radius {body.radius:g})",
+                f'kind = "rigid", or shape = "cylinder" with radius = {body.radius:g}',
+            )
+    if (a.finite or b.finite) and case.discretization.influence == "half-plane":
+        raise _fail(
+            file,
+            "discretization.influence",
+            "half-plane",
+            'a finite cylinder (shape = "cylinder") needs the BEM',
+            '"bem" or "auto"',
+        )
 
 
 def _check_overlap(case: schema.Case, file: str | None) -> None:

@@ -38,7 +38,7 @@ from .mesh import BoundaryMesh, _Builder, graded_edges
 from .symmetry import reductions
 from .system import mixed_systems
 
-__all__ = ["annulus_mesh", "contact_angles", "condensed", "xy_compliance", "rotate"]
+__all__ = ["annulus_mesh", "annulus_size", "contact_angles", "condensed", "xy_compliance", "rotate"]
 
 #: Default largest element, as a fraction of the circumference (64 elements round a circle at least).
 ARC_FRACTION = 1.0 / 64.0
@@ -74,8 +74,8 @@ def annulus_mesh(
     if not c < np.pi * radius / 3.0:
         raise ValueError("the contact zone must span less than a third of the circumference")
     thickness = radius - inner_radius
-    big = largest if largest is not None else min(thickness, 2.0 * np.pi * radius * ARC_FRACTION)
     lengths = np.diff(edges)
+    half, big = _outer_edges(c, float(lengths[-1]), radius, thickness, growth, largest)
     centre_y = -radius
     b = _Builder([], [], [], [], [])
     # the contact zone, counter-clockwise (from +s to -s)
@@ -83,16 +83,42 @@ def annulus_mesh(
     b.segment(_circle(radius, centre_y, edges[::-1] / radius), fixed=False, discontinuous=True)
     contact = np.arange(first_contact, len(b.nodes))
     # the free outer arc, counter-clockwise from s = -c round the bottom to s = +c; mirror-symmetric
-    half = graded_edges(c, np.pi * radius, float(lengths[-1]), growth, big)  # s from c to pi R
     arc = np.concatenate([-half, half[::-1][1:] - 2.0 * np.pi * radius])
     b.segment(_circle(radius, centre_y, arc / radius), fixed=False)
     # the bore, clockwise (the domain on the left), from the bottom through -x, the top and +x back
-    inner_big = min(big, 2.0 * np.pi * inner_radius * ARC_FRACTION)
-    first = min(inner_big, max(float(lengths.max()), thickness / 8.0))
-    half = graded_edges(0.0, np.pi * inner_radius, first, growth, inner_big)
+    half = _bore_edges(float(lengths.max()), inner_radius, thickness, growth, big)
     bore = np.concatenate([-half[::-1], half[1:]]) / inner_radius
     b.segment(_circle(inner_radius, centre_y, bore), fixed=True)
     return b.mesh(np.zeros(len(b.nodes), dtype=bool), contact)
+
+
+def _outer_edges(c: float, h_end: float, radius: float, thickness: float, growth: float, largest: float | None):
+    """The free outer arc's edges from the zone's end at s = c to the bottom, and the element cap."""
+    big = largest if largest is not None else min(thickness, 2.0 * np.pi * radius * ARC_FRACTION)
+    return graded_edges(c, np.pi * radius, h_end, growth, big), big
+
+
+def _bore_edges(h_max: float, inner_radius: float, thickness: float, growth: float, big: float) -> np.ndarray:
+    """The bore's edges in arc length from its top to its bottom."""
+    inner_big = min(big, 2.0 * np.pi * inner_radius * ARC_FRACTION)
+    first = min(inner_big, max(h_max, thickness / 8.0))
+    return graded_edges(0.0, np.pi * inner_radius, first, growth, inner_big)
+
+
+def annulus_size(
+    zone_half_width: float, elements: int, radius: float, inner_radius: float, growth: float = 1.4
+) -> tuple[int, int]:
+    """Boundary nodes N and elements E of :func:`annulus_mesh` for a uniform contact grid, without building it.
+
+    Contact: 3 nodes per element; the free arc and the bore are one segment each of k elements
+    with 2 k + 1 nodes (continuous inside, partially discontinuous at the segment's two ends).
+    """
+    h = 2.0 * zone_half_width / elements
+    thickness = radius - inner_radius
+    outer, big = _outer_edges(zone_half_width, h, radius, thickness, growth, None)
+    k_outer = 2 * (outer.size - 1)
+    k_bore = 2 * (_bore_edges(h, inner_radius, thickness, growth, big).size - 1)
+    return 3 * elements + 2 * k_outer + 1 + 2 * k_bore + 1, elements + k_outer + k_bore
 
 
 def contact_angles(mesh: BoundaryMesh, radius: float) -> np.ndarray:
