@@ -116,6 +116,7 @@ def plan(case: Case, half_width: float | None = None, check: bool = True) -> Pla
     disc = case.discretization
     order = 2 if disc.element == "quadratic" else 0
     grid = ContactGrid(disc.zone * half_width, disc.contact_elements, order)
+    _check_arc(case, grid)
     if check and measured:
         _check_layer_elements(case, grid)
     return Plan(e_star, r_star, beta, half_width, p0, load, grid, effects_mod.decide(case), measured)
@@ -155,6 +156,22 @@ def _check_layer_elements(case: Case, grid: ContactGrid) -> None:
                 f"allowed: >= {needed} elements (or a smaller discretization.zone)",
                 file=case.source,
                 key="discretization.contact_elements",
+            )
+
+
+def _check_arc(case: Case, grid: ContactGrid) -> None:
+    """A finite cylinder's mesh takes a potential zone of less than a third of its circumference
+    (:func:`rolling_cli.influence.bem.cylinder.annulus_mesh`): beyond, the contact is not a rolling
+    contact of cylinders any more."""
+    for label in ("A", "B"):
+        body = getattr(case.bodies, label)
+        if body.shape == "cylinder" and not grid.half_width < np.pi * float(body.radius) / 3.0:
+            raise CaseError(
+                f"bodies.{label}.radius = {float(body.radius):g}: the potential contact zone (half-width "
+                f"{grid.half_width:.4g}) reaches a third of the circumference of the finite cylinder; "
+                "allowed: a smaller load or overlap, or a smaller discretization.zone",
+                file=case.source,
+                key=f"bodies.{label}.radius",
             )
 
 

@@ -152,3 +152,11 @@ def test_shapes():
     for bad in ((5.0, 5.0), (5.0, 0.0), (5.0, 6.0), (float("inf"), 1.0)):
         with pytest.raises(ValueError):
             Cylinder(*bad)
+
+
+def test_annulus_size_counts_the_mesh():
+    """The resource model's count (without building) equals the built mesh's, for a solid-like
+    roller, a thin cover and a large hollow cylinder."""
+    for half, elements, radius, inner in ((1.5, 30, 20.0, 2.0), (1.5, 200, 5.0, 4.0), (0.3, 20, 1000.0, 500.0)):
+        mesh = cylinder.annulus_mesh(ContactGrid(half, elements, 2), radius, inner)
+        assert cylinder.annulus_size(half, elements, radius, inner) == (mesh.size, mesh.elements)
