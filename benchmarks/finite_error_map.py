@@ -95,8 +95,8 @@ def main() -> None:
             half = rolling_cli.solve(load_case(_case(half_body, load, args.elements)))
             try:
                 finite = rolling_cli.solve(load_case(_case(finite_body, load, args.elements)))
-            except Exception:  # a zone beyond the mesh's reach (a third of the circumference): say so
-                print(f"| {kind} | {_width(half) / R:.3g} | zone beyond R pi/3 | | | | | | |")
+            except Exception:  # a zone beyond the mesh's reach (half the circumference): say so
+                print(f"| {kind} | {_width(half) / R:.3g} | zone beyond R pi/2 | | | | | | |")
                 continue
             scale = 0.3 * _width(half) / R  # mu a / R: the creepage's natural scale
             creep = (half.creep - finite.creep) / scale

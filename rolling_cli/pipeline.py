@@ -160,15 +160,15 @@ def _check_layer_elements(case: Case, grid: ContactGrid) -> None:
 
 
 def _check_arc(case: Case, grid: ContactGrid) -> None:
-    """A finite cylinder's mesh takes a potential zone of less than a third of its circumference
+    """A finite cylinder's mesh takes a potential zone of less than half its circumference
     (:func:`rolling_cli.influence.bem.cylinder.annulus_mesh`): beyond, the contact is not a rolling
     contact of cylinders any more."""
     for label in ("A", "B"):
         body = getattr(case.bodies, label)
-        if body.shape == "cylinder" and not grid.half_width < np.pi * float(body.radius) / 3.0:
+        if body.shape == "cylinder" and not grid.half_width < 0.5 * np.pi * float(body.radius):
             raise CaseError(
                 f"bodies.{label}.radius = {float(body.radius):g}: the potential contact zone (half-width "
-                f"{grid.half_width:.4g}) reaches a third of the circumference of the finite cylinder; "
+                f"{grid.half_width:.4g}) reaches half the circumference of the finite cylinder; "
                 "allowed: a smaller load or overlap, or a smaller discretization.zone",
                 file=case.source,
                 key=f"bodies.{label}.radius",

@@ -44,4 +44,9 @@ def half_space_check(case, half_width: float) -> dict:
             f"bodies.{label}.radius = {radius:.4g}): the half-space model and small strains do not hold, "
             "so this result does not describe the cylinders"
         )
+        if not getattr(case.bodies, label).rigid:  # the finite model exists for this body
+            warning += (
+                f'; shape = "cylinder" under [bodies.{label}] models its whole cross-section (the half-space '
+                f"creepage error here is about {0.7 * ratio:.2g} mu a/R for a solid roller: README, error map)"
+            )
     return {"half_space_ratio": ratio, "validity_warning": warning}

@@ -144,7 +144,7 @@ def test_bad_shapes_are_one_line_errors(tmp_path, body_a, body_b, key, why):
     ("dotted", "why"),
     [
         ({"stresses": {"depth": 2.0}}, "stresses: the subsurface stresses of a finite cylinder"),
-        ({"normal.load": 1e4}, "reaches a third of the circumference"),
+        ({"normal.load": 1e4}, "reaches half the circumference"),
     ],
 )
 def test_unsupported_finite_cases_are_one_line_errors(tmp_path, dotted, why):
@@ -157,3 +157,17 @@ def test_unsupported_finite_cases_are_one_line_errors(tmp_path, dotted, why):
     assert result.exit_code == 2, result.output
     lines = result.output.strip().splitlines()
     assert len(lines) == 1 and why in lines[0], result.output
+
+
+def test_half_space_warning_names_the_finite_model():
+    """Above a/R = 0.1 the half-space warning points to shape = "cylinder" with the error map's
+    estimate; a finite cylinder gets no warning at any a/R (its geometry is exact)."""
+    from rolling_cli.case import load_case
+    from rolling_cli.validity import half_space_check
+
+    body = _cylinder(5.0, 2.0, young=10.0)
+    half = load_case(_case(_half_space(body), RIGID_FLAT, 1.0, 20))
+    warning = half_space_check(half, 1.5)["validity_warning"]
+    assert 'shape = "cylinder" under [bodies.A]' in warning and "0.21 mu a/R" in warning
+    finite = load_case(_case(body, RIGID_FLAT, 1.0, 20))
+    assert half_space_check(finite, 1.5)["validity_warning"] == ""

@@ -57,7 +57,7 @@ def annulus_mesh(
     """The annulus ``inner_radius`` < r < ``radius`` [length] with the contact grid on its outer circle.
 
     The grid (quadratic elements, centred on s = 0) is in arc length along the
-    outer circle and must span less than a third of it. Elements away from the
+    outer circle and must span less than half of it. Elements away from the
     zone grow by ``growth`` per element from the adjacent contact element's
     length up to ``largest`` [length] (default: the smaller of the section's
     thickness and the outer circumference / 64; on the bore, at most its own
@@ -71,8 +71,8 @@ def annulus_mesh(
     if abs(edges[0] + edges[-1]) > 1e-9 * (edges[-1] - edges[0]):
         raise ValueError("the contact grid must be centred on the top of the cylinder")
     c = float(edges[-1])
-    if not c < np.pi * radius / 3.0:
-        raise ValueError("the contact zone must span less than a third of the circumference")
+    if not c < 0.5 * np.pi * radius:
+        raise ValueError("the contact zone must span less than half the circumference")
     thickness = radius - inner_radius
     lengths = np.diff(edges)
     half, big = _outer_edges(c, float(lengths[-1]), radius, thickness, growth, largest)
