@@ -236,9 +236,11 @@ def _with_hoop(b_tt, b_tn, compliance: Compliance, gauge: int, direction: int):
     """B_tt and B_tn plus sgn(V) times the hoop strain blocks, except on the gauge row (dense)."""
     rows = np.ones((compliance.x.shape[0], 1))
     rows[gauge] = 0.0
-    b_tt = b_tt + direction * rows * compliance.hoop_t
-    if b_tn is not None and compliance.hoop_n is not None:
-        b_tn = b_tn + direction * rows * compliance.hoop_n
+    hoop_t, hoop_n = compliance.hoop_t, compliance.hoop_n
+    if hoop_t is not None:
+        b_tt = b_tt + direction * rows * hoop_t
+    if b_tn is not None and hoop_n is not None:
+        b_tn = b_tn + direction * rows * hoop_n
     return b_tt, b_tn
 
 

@@ -78,6 +78,13 @@ def _sum(a, b, sign: float):
     return a if b is None else a + sign * b
 
 
+def _cross(body: Compliance) -> np.ndarray:
+    """A finite body's S_nt, which its BEM condensation always forms."""
+    if body.S_nt is None:
+        raise ValueError("a finite body's compliance needs its coupling blocks")
+    return body.S_nt
+
+
 def finite_pair(
     body_a: Compliance | None,
     body_b: Compliance | None,
@@ -120,11 +127,14 @@ def finite_pair(
     s_tn = _sum(get(body_a, "S_tn"), get(body_b, "S_tn"), -1.0)
     s_tt = _sum(get(body_a, "S_tt"), get(body_b, "S_tt"), 1.0)
     # hoop strain -(w_A/R_A - w_B/R_B); only finite bodies have it
-    inv_a = 1.0 / radius_a if finite_a and body_a is not None else 0.0
-    inv_b = 1.0 / radius_b if finite_b and body_b is not None else 0.0
-    zero = np.zeros_like(s_nn)
-    hoop_n = -(inv_a * (body_a.S_nn if inv_a else zero) - inv_b * (body_b.S_nn if inv_b else zero))
-    hoop_t = -(inv_a * (body_a.S_nt if inv_a else zero) + inv_b * (body_b.S_nt if inv_b else zero))
+    hoop_n = np.zeros_like(s_nn)
+    hoop_t = np.zeros_like(s_nn)
+    if finite_a and body_a is not None:
+        hoop_n -= body_a.S_nn / radius_a
+        hoop_t -= _cross(body_a) / radius_a
+    if finite_b and body_b is not None:  # B carries -p_t
+        hoop_n += body_b.S_nn / radius_b
+        hoop_t += _cross(body_b) / radius_b
     return Compliance(
         x=ref.x,
         weights=ref.weights,

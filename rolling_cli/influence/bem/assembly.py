@@ -186,9 +186,9 @@ def _block(mesh, geo, points, elements, shear, poisson, h, g) -> None:
         e = elements[qs]
         if nodes.ndim == 2:  # elements alone on their lines, against their own nodes: scatter the valid pairs
             values = collinear.integrals(c, own, geo.coeff[e], geo.half[e], geo.tangent[e], shear, poisson)
-            q, k = np.nonzero(nodes >= 0)
-            h[qs[q], :, :, nodes[q, k], :] = values[0][q, :, :, k, :]
-            g[qs[q], :, :, nodes[q, k], :] = values[1][q, :, :, k, :]
+            pair, slot = np.nonzero(nodes >= 0)
+            h[qs[pair], :, :, nodes[pair, slot], :] = values[0][pair, :, :, slot, :]
+            g[qs[pair], :, :, nodes[pair, slot], :] = values[1][pair, :, :, slot, :]
             continue
         rows, columns = _span(qs), _span(nodes)
         if isinstance(rows, slice) and isinstance(columns, slice):  # written in place
