@@ -171,3 +171,29 @@ def test_half_space_warning_names_the_finite_model():
     assert 'shape = "cylinder" under [bodies.A]' in warning and "0.21 mu a/R" in warning
     finite = load_case(_case(body, RIGID_FLAT, 1.0, 20))
     assert half_space_check(finite, 1.5)["validity_warning"] == ""
+
+
+@pytest.mark.parametrize(
+    ("poisson", "load", "elements", "b_over_a"),
+    [
+        (0.3, 0.094, 80, (0.08, 0.13)),
+        (0.5, 2.3, 80, (0.08, 0.13)),
+        (0.3, 1e-4, 30, (0.7, 1.5)),
+        (0.5, 1e-4, 30, (0.7, 1.5)),
+    ],
+)
+def test_flat_layer_limit(poisson, load, elements, b_over_a):
+    """A covered roller (cover b = 1 on a rigid core) of R/b = 10^4 on a rigid flat against today's
+    flat layer (kind = "layered", the half-space shape), at b/a ~ 0.1 and ~ 1, nu = 0.3 and 0.5:
+    creepage, peak pressure and contact half-width within 0.5 % (the issue's bounds). What differs is
+    the curvature, O(a/R) <= 1e-3 (measured: creepage 0.15 % at b/a = 0.10 and 0.083, 0.02 % at
+    b/a = 1.1 and 1.3; peak pressure and width at most 0.09 %). Before the bore was meshed as finely
+    as a flat layer's bottom under the zone (at most b), thin covers were off by 1 % here."""
+    cover = {"kind": "layered", "radius": 1e4, "young": 1.0, "poisson": poisson, "layer_thickness": 1.0}
+    flat = solve(_case(cover, RIGID_FLAT, load, elements))
+    finite = solve(_case({**cover, "shape": "cylinder"}, RIGID_FLAT, load, elements))
+    width = _edges_width(flat)
+    assert b_over_a[0] < 1.0 / width < b_over_a[1]
+    assert abs(finite.creep / flat.creep - 1.0) <= 5e-3
+    assert abs(finite.p_n.min() / flat.p_n.min() - 1.0) <= 5e-3
+    assert abs(_edges_width(finite) / width - 1.0) <= 5e-3

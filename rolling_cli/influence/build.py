@@ -56,7 +56,9 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
             inputs = bem_inputs(case, the_plan, body)
             bodies[label], origin[label] = _bem_body(inputs, use_cache)
     if a.finite or b.finite:  # exact geometry and hoop strain of finite cylinders
-        from ..model.finite import finite_pair
+        from ..model import finite as _finite
+
+        finite_pair = _finite.finite_pair
 
         pair = finite_pair(bodies["A"], bodies["B"], a.radius, b.radius, a.finite, b.finite, coupling)
         return pair, origin

@@ -86,7 +86,7 @@ def annulus_mesh(
     arc = np.concatenate([-half, half[::-1][1:] - 2.0 * np.pi * radius])
     b.segment(_circle(radius, centre_y, arc / radius), fixed=False)
     # the bore, clockwise (the domain on the left), from the bottom through -x, the top and +x back
-    half = _bore_edges(float(lengths.max()), inner_radius, thickness, growth, big)
+    half = _bore_edges(float(lengths.max()), c / radius, inner_radius, thickness, growth, big)
     bore = np.concatenate([-half[::-1], half[1:]]) / inner_radius
     b.segment(_circle(inner_radius, centre_y, bore), fixed=True)
     return b.mesh(np.zeros(len(b.nodes), dtype=bool), contact)
@@ -94,15 +94,23 @@ def annulus_mesh(
 
 def _outer_edges(c: float, h_end: float, radius: float, thickness: float, growth: float, largest: float | None):
     """The free outer arc's edges from the zone's end at s = c to the bottom, and the element cap."""
-    big = largest if largest is not None else min(thickness, 2.0 * np.pi * radius * ARC_FRACTION)
+    big = largest if largest is not None else 2.0 * np.pi * radius * ARC_FRACTION
     return graded_edges(c, np.pi * radius, h_end, growth, big), big
 
 
-def _bore_edges(h_max: float, inner_radius: float, thickness: float, growth: float, big: float) -> np.ndarray:
-    """The bore's edges in arc length from its top to its bottom."""
+def _bore_edges(
+    h_max: float, zone_angle: float, inner_radius: float, thickness: float, growth: float, big: float
+) -> np.ndarray:
+    """The bore's edges in arc length from its top to its bottom: equal ones of the larger of the
+    longest contact element and an eighth of the thickness (at most the thickness, as a flat
+    layer's bottom) under the zone (angles up to ``zone_angle``), then graded by distance."""
     inner_big = min(big, 2.0 * np.pi * inner_radius * ARC_FRACTION)
-    first = min(inner_big, max(h_max, thickness / 8.0))
-    return graded_edges(0.0, np.pi * inner_radius, first, growth, inner_big)
+    first = min(inner_big, thickness, max(h_max, thickness / 8.0))
+    under = zone_angle * inner_radius
+    count = max(1, int(np.ceil(under / first - 1e-9)))
+    uniform = np.linspace(0.0, under, count + 1)
+    graded = graded_edges(under, np.pi * inner_radius, float(uniform[1] - uniform[0]), growth, inner_big)
+    return np.concatenate([uniform, graded[1:]])
 
 
 def annulus_size(
@@ -117,7 +125,7 @@ def annulus_size(
     thickness = radius - inner_radius
     outer, big = _outer_edges(zone_half_width, h, radius, thickness, growth, None)
     k_outer = 2 * (outer.size - 1)
-    k_bore = 2 * (_bore_edges(h, inner_radius, thickness, growth, big).size - 1)
+    k_bore = 2 * (_bore_edges(h, zone_half_width / radius, inner_radius, thickness, growth, big).size - 1)
     return 3 * elements + 2 * k_outer + 1 + 2 * k_bore + 1, elements + k_outer + k_bore
 
 
