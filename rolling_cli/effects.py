@@ -107,7 +107,15 @@ def identical(a: Body, b: Body) -> bool:
         and a.relaxed_young == b.relaxed_young
         and a.creep_time == b.creep_time
         and a.prony == b.prony
+        and a.shape == b.shape
+        and (not a.finite or (a.radius == b.radius and a.inner_radius == b.inner_radius))
     )
+
+
+def _shape_phrase(label: str, body: Body) -> str:
+    """``A: R = 5, bore 2`` (elastic) or ``A: R = 5, core 4`` (a cover on a rigid core)."""
+    what = "core" if body.kind == "layered" else "bore"
+    return f"{label}: R = {body.radius:g}, {what} {body.core_radius:g}"
 
 
 def cross_compliance(case: Case) -> float:
@@ -149,10 +157,14 @@ def decide(case: Case) -> Effects:
         physical = False
         why_zero = "identical bodies: the BEM cross blocks cancel exactly"
         why_on = ""
-    elif layered:
+    elif layered or a.finite or b.finite:
         physical = True
         why_zero = ""
-        why_on = "a layer couples normal and tangential tractions whatever its nu (BEM cross blocks)"
+        why_on = (
+            "a layer couples normal and tangential tractions whatever its nu (BEM cross blocks)"
+            if layered
+            else "a finite cylinder's curved surface couples normal and tangential tractions (BEM cross blocks)"
+        )
     elif visco:
         physical = viscoelastic.cross_differs(case)
         why_zero = "the bodies' cross compliances are equal at all times of the history, exactly decoupled"
@@ -210,7 +222,14 @@ def decide(case: Case) -> Effects:
                 notes[f"influence {label}"] = "reused: identical to body A"
             else:
                 kind = "BEM layer on a rigid core" if body.kind == "layered" else "BEM half-space"
+                if body.finite:
+                    kind = "BEM finite cylinder, " + (
+                        "cover on a rigid core" if body.kind == "layered" else "bore on a rigid shaft"
+                    )
                 notes[f"influence {label}"] = f"simulated: {kind}"
+        finite = [_shape_phrase(label, body) for label, body in (("A", a), ("B", b)) if body.finite]
+        if finite:
+            notes["body shape"] = "finite cylinder (" + "; ".join(finite) + ")"
 
     from .model.friction import from_case
 

@@ -116,6 +116,7 @@ def plan(case: Case, half_width: float | None = None, check: bool = True) -> Pla
     disc = case.discretization
     order = 2 if disc.element == "quadratic" else 0
     grid = ContactGrid(disc.zone * half_width, disc.contact_elements, order)
+    _check_arc(case, grid)
     if check and measured:
         _check_layer_elements(case, grid)
     return Plan(e_star, r_star, beta, half_width, p0, load, grid, effects_mod.decide(case), measured)
@@ -158,6 +159,22 @@ def _check_layer_elements(case: Case, grid: ContactGrid) -> None:
             )
 
 
+def _check_arc(case: Case, grid: ContactGrid) -> None:
+    """A finite cylinder's mesh takes a potential zone of less than half its circumference
+    (:func:`rolling_cli.influence.bem.cylinder.annulus_mesh`): beyond, the contact is not a rolling
+    contact of cylinders any more."""
+    for label in ("A", "B"):
+        body = getattr(case.bodies, label)
+        if body.shape == "cylinder" and not grid.half_width < 0.5 * np.pi * float(body.radius):
+            raise CaseError(
+                f"bodies.{label}.radius = {float(body.radius):g}: the potential contact zone (half-width "
+                f"{grid.half_width:.4g}) reaches half the circumference of the finite cylinder; "
+                "allowed: a smaller load or overlap, or a smaller discretization.zone",
+                file=case.source,
+                key=f"bodies.{label}.radius",
+            )
+
+
 def _layered(case: Case) -> bool:
     return case.bodies.A.kind == "layered" or case.bodies.B.kind == "layered"
 
@@ -172,7 +189,8 @@ def _viscoelastic(case: Case) -> bool:
 def hertz_applies(case: Case) -> bool:
     """Hertz gives a and the pressure of the cold start: the load is prescribed on two half-spaces.
     Otherwise (layers, overlap control) the closed-form pressure is only a first approximation."""
-    return case.normal.load is not None and not _layered(case)
+    finite = case.bodies.A.shape == "cylinder" or case.bodies.B.shape == "cylinder"  # a is measured: stiffer bodies
+    return case.normal.load is not None and not _layered(case) and not finite
 
 
 def _settle_cold(case: Case) -> bool:

@@ -355,6 +355,10 @@ def body_mesh_size(case, the_plan, body) -> tuple[int, int]:
     from .influence.build import bem_inputs
 
     inputs = bem_inputs(case, the_plan, body)
+    if inputs.get("shape") == "cylinder":  # the annulus (its mesh counted from its edges alone)
+        from .influence.bem.cylinder import annulus_size
+
+        return annulus_size(inputs["zone_half_width"], inputs["elements"], inputs["radius"], inputs["inner_radius"])
     largest = inputs["depth"] if inputs["kind"] == "layered" else None
     return rectangle_size(inputs["zone_half_width"], inputs["elements"], inputs["half_width"], inputs["depth"], largest)
 

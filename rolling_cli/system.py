@@ -204,6 +204,8 @@ def build_system(
     if compliance.S_tn is not None:
         b_tn = _slip_block(compliance.S_tn, spacing, direction, scheme)
         gauge_tn = _downwind_row(compliance.S_tn, spacing, direction)
+    if compliance.hoop_t is not None:  # a finite body's hoop strain on the slip rows (not the gauge row)
+        b_tt, b_tn = _with_hoop(b_tt, b_tn, compliance, g, direction)
     ref_n, ref_t = automatic_penalties(compliance.S_nn, b_tt, direction)
     r_n, r_t = ref_n, ref_t
     if penalty is not None:
@@ -212,7 +214,7 @@ def build_system(
         x=x,
         weights=compliance.weights,
         spacing=largest,
-        gap0=0.5 * x**2 / radius,
+        gap0=0.5 * x**2 / radius if compliance.gap0 is None else compliance.gap0,
         S_nn=compliance.S_nn,
         S_nt=compliance.S_nt,
         B_tn=b_tn,
@@ -228,6 +230,18 @@ def build_system(
         gauge_tt=_downwind_row(compliance.S_tt, spacing, direction),
         definite_normal=compliance.definite_normal,
     )
+
+
+def _with_hoop(b_tt, b_tn, compliance: Compliance, gauge: int, direction: int):
+    """B_tt and B_tn plus sgn(V) times the hoop strain blocks, except on the gauge row (dense)."""
+    rows = np.ones((compliance.x.shape[0], 1))
+    rows[gauge] = 0.0
+    hoop_t, hoop_n = compliance.hoop_t, compliance.hoop_n
+    if hoop_t is not None:
+        b_tt = b_tt + direction * rows * hoop_t
+    if b_tn is not None and hoop_n is not None:
+        b_tn = b_tn + direction * rows * hoop_n
+    return b_tt, b_tn
 
 
 def _slip_block(matrix, spacing, direction: int, scheme: str):

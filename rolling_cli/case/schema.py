@@ -101,10 +101,36 @@ class Body:
         "[stress, time] (viscoelastic, instead of relaxed_young and creep_time)",
         convert=_prony,
     )
+    shape: str = spec(
+        "half-space",
+        doc="what the influence model represents: the half-space near the contact, or the whole cross-section",
+        kind="str",
+        choices=("half-space", "cylinder"),
+    )
+    inner_radius: float | None = spec(
+        None,
+        doc="bore radius r_i [length], bonded to a rigid shaft (shape = cylinder, elastic; 0 < r_i < radius)",
+        kind="float",
+        ge=SMALLEST,
+        le=LARGEST,
+    )
 
     @property
     def rigid(self) -> bool:
         return self.kind == "rigid"
+
+    @property
+    def finite(self) -> bool:
+        """True for ``shape = "cylinder"``: the whole cross-section is modelled (:mod:`rolling_cli.model.shapes`)."""
+        return self.shape == "cylinder"
+
+    @property
+    def core_radius(self) -> float:
+        """The radius of the rigid shaft or core of a finite cylinder [length]: the bore
+        (elastic) or radius - layer_thickness (layered)."""
+        if self.kind == "layered":
+            return float(self.radius) - float(given(self.layer_thickness, "layer_thickness"))
+        return float(given(self.inner_radius, "inner_radius"))
 
     @property
     def modulus(self) -> float:

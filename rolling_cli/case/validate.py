@@ -220,6 +220,7 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
                     "remove it",
                 )
         viscoelastic.check_body(body, key, file)
+    _check_shapes(case, file)
     if case.bodies.A.rigid and case.bodies.B.rigid:
         raise CaseError(
             'bodies.B.kind = "rigid": both bodies are rigid; allowed: at least one elastic or layered body',
@@ -316,6 +317,85 @@ def resolved_friction(case: schema.Case) -> schema.Case:
     if case.friction.law == "constant" or mu_static is None:
         return case
     return dataclasses.replace(case, friction=dataclasses.replace(case.friction, mu=mu_static))
+
+
+def _check_shapes(case: schema.Case, file: str | None) -> None:
+    """``shape`` and ``inner_radius``: a finite cylinder is an elastic or layered body of finite
+    radius, its bore (elastic) inside it, its counterpart rigid or a finite cylinder of the same
+    radius (the contact nodes of the two arcs then face each other), on the BEM."""
+    for label in ("A", "B"):
+        body = getattr(case.bodies, label)
+        key = f"bodies.{label}"
+        if body.rigid:
+            if body.shape != "half-space":
+                raise _fail(file, f"{key}.shape", body.shape, "a rigid body has no elastic shape", "remove it")
+            if body.inner_radius is not None:
+                raise _fail(file, f"{key}.inner_radius", body.inner_radius, 'not used by kind = "rigid"', "remove it")
+            continue
+        if not body.finite:
+            if body.inner_radius is not None:
+                raise _fail(
+                    file, f"{key}.inner_radius", body.inner_radius, 'not used by shape = "half-space"', "remove it"
+                )
+            continue
+        if math.isinf(body.radius):
+            raise _fail(
+                file,
+                f"{key}.radius",
+                body.radius,
+                'a flat has no finite cross-section (shape = "cylinder")',
+                "a finite radius",
+            )
+        if body.kind == "layered":
+            if body.inner_radius is not None:
+                raise _fail(
+                    file,
+                    f"{key}.inner_radius",
+                    body.inner_radius,
+                    "not used by a layered cylinder (its rigid core has radius radius - layer_thickness)",
+                    "remove it",
+                )
+            continue
+        if body.inner_radius is None:
+            raise CaseError(
+                f'{key}.inner_radius: missing key (shape = "cylinder"); allowed: a number in (0, {body.radius:g})',
+                file=file,
+                key=f"{key}.inner_radius",
+            )
+        if not body.inner_radius < body.radius:
+            raise _fail(
+                file,
+                f"{key}.inner_radius",
+                body.inner_radius,
+                f"not inside the body (radius {body.radius:g})",
+                f"a number < bodies.{label}.radius",
+            )
+    a, b = case.bodies.A, case.bodies.B
+    for label, body, other in (("A", a, b), ("B", b, a)):
+        if body.finite and not other.rigid and not (other.finite and other.radius == body.radius):
+            olabel = "B" if label == "A" else "A"
+            raise _fail(
+                file,
+                f"bodies.{olabel}.shape",
+                other.shape,
+                f"against the finite cylinder bodies.{label} (radius {body.radius:g})",
+                f'kind = "rigid", or shape = "cylinder" with radius = {body.radius:g}',
+            )
+    if (a.finite or b.finite) and case.stresses is not None:
+        raise CaseError(
+            'stresses: the subsurface stresses of a finite cylinder (shape = "cylinder") are not implemented; '
+            "allowed: no [stresses] table with a finite cylinder",
+            file=file,
+            key="stresses",
+        )
+    if (a.finite or b.finite) and case.discretization.influence == "half-plane":
+        raise _fail(
+            file,
+            "discretization.influence",
+            "half-plane",
+            'a finite cylinder (shape = "cylinder") needs the BEM',
+            '"bem" or "auto"',
+        )
 
 
 def _check_overlap(case: schema.Case, file: str | None) -> None:

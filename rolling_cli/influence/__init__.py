@@ -51,6 +51,12 @@ class Compliance:
     S_nt: Block | None = None
     S_tn: Block | None = None
     definite_normal: bool = False
+    #: Finite bodies (:mod:`rolling_cli.model.finite`): the exact undeformed gap [length] (None: the
+    #: parabola x^2 / 2R*), and the curved surfaces' relative hoop strain -(w_A/R_A - w_B/R_B) per unit
+    #: p_n and p_t [1/stress], which the slip rows add (times the sign of V) to the strain du/ds.
+    gap0: np.ndarray | None = None
+    hoop_n: np.ndarray | None = None
+    hoop_t: np.ndarray | None = None
 
     @property
     def coupled(self) -> bool:

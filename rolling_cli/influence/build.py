@@ -64,6 +64,13 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
         else:
             inputs = bem_inputs(case, the_plan, body)
             bodies[label], origin[label] = _bem_body(inputs, use_cache)
+    if a.finite or b.finite:  # exact geometry and hoop strain of finite cylinders
+        from ..model import finite as _finite
+
+        finite_pair = _finite.finite_pair
+
+        pair = finite_pair(bodies["A"], bodies["B"], a.radius, b.radius, a.finite, b.finite, coupling)
+        return pair, origin
     return combine(bodies["A"], bodies["B"], coupling), origin
 
 
@@ -71,7 +78,9 @@ def bem_inputs(case, the_plan, body) -> dict:
     """Everything a BEM body compliance depends on (the cache key) [length, stress]."""
     disc = case.discretization
     grid = the_plan.grid
-    if body.kind == "layered":
+    if body.finite:  # the whole annulus: outer radius and the rigid shaft's or core's radius
+        geometry = {"shape": "cylinder", "radius": float(body.radius), "inner_radius": body.core_radius}
+    elif body.kind == "layered":
         thickness = float(body.layer_thickness)
         geometry = {"half_width": grid.half_width + disc.layer_length * thickness, "depth": thickness}
     else:
@@ -145,6 +154,11 @@ def _compute_bem(inputs: dict) -> Compliance:
 
     blas.settle()  # the BEM's LAPACK (scipy's BLAS, loaded by the import) on the command's threads
 
+    if inputs.get("shape") == "cylinder":
+        from .bem import cylinder
+
+        grid = contact_grid(inputs)
+        return cylinder.condensed(grid, inputs["radius"], inputs["inner_radius"], inputs["young"], inputs["poisson"])
     mesh, grid = _mesh(inputs)
     return bem.condensed(mesh, grid, inputs["young"], inputs["poisson"])
 
@@ -176,8 +190,8 @@ def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarr
     half_width=r.mesh_half_width)``.
     """
     body = getattr(case.bodies, label)
-    if the_plan.effects.influence != "bem" or body.rigid:
-        raise ValueError(f"body {label} has no BEM mesh (rigid body or half-plane model)")
+    if the_plan.effects.influence != "bem" or body.rigid or body.finite:
+        raise ValueError(f"body {label} has no BEM block mesh (rigid body, half-plane model or finite cylinder)")
     from . import bem
 
     inputs = bem_inputs(case, the_plan, body)

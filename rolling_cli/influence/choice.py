@@ -22,6 +22,9 @@ def influence_model(case) -> tuple[str, str]:
     requested = case.discretization.influence
     if requested != "auto":
         return requested, f'discretization.influence = "{requested}"'
+    finite = [label for label in ("A", "B") if getattr(case.bodies, label).shape == "cylinder"]
+    if finite:
+        return "bem", f"auto: body {' and '.join(finite)} is a finite cylinder, which only the BEM models"
     layered = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "layered"]
     if layered:
         return "bem", f"auto: body {' and '.join(layered)} is layered, which only the BEM models"

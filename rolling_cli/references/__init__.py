@@ -8,4 +8,5 @@
 * :mod:`.approach`: the approach of a half-space under a Hertz pressure,
   measured from the point at depth d below the contact (the overlap's meaning).
 * :mod:`.thin_layer`: the thin bonded layer limits (sanity bounds).
+* :mod:`.annulus`: Michell's series for an annulus bonded to a rigid shaft (the finite cylinder).
 """

@@ -132,7 +132,9 @@ def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np
     Returns ``collinear``: per line among the elements, (q (e,), its points p
     (n,), c (e, n), own (e, n)): every point on that line against every element
     on it, with the point's local coordinate c on the element's line and its
-    position among the element's nodes (-1: none); ``near`` (p, q, t, dist):
+    position among the element's nodes (-1: none); the elements alone on their
+    lines (a polygon's sides, as a circle's) in one entry whose points are
+    per element, p (e, 3) its own nodes (-1: not a point), c (e, 3), own (e, 3); ``near`` (p, q, t, dist):
     the nearest point's fraction t along the element and the distance
     [length]; ``regular`` (p, q).
     """
@@ -151,7 +153,15 @@ def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np
         member[p[p >= 0], q[p >= 0]] = a
     collinear = []
     lines = geo.line[elements]
-    for line in np.unique(lines):
+    unique, counts = np.unique(lines, return_counts=True)
+    alone = np.isin(lines, unique[counts == 1])  # an element alone on its line (a polygon's side)
+    own_points = np.where(member >= 0, 1, 0).sum(axis=0)  # per element: its nodes among the points
+    alone &= np.count_nonzero(on_line, axis=0) == own_points  # ... and no other point on its line
+    if np.any(alone):  # all at once: each against its own nodes (rows (e, 3): -1 where not a point)
+        qs = np.flatnonzero(alone)
+        slots = position[mesh.connectivity[elements[qs]]]
+        collinear.append((qs, slots, mesh.local[elements[qs]].copy(), np.broadcast_to(np.arange(3), slots.shape)))
+    for line in np.unique(lines[~alone]):
         qs = np.flatnonzero(lines == line)
         nodes = np.flatnonzero(on_line[:, qs[0]])
         if not on_line[nodes][:, qs].all() or np.count_nonzero(on_line[:, qs]) != nodes.size * qs.size:
@@ -174,6 +184,12 @@ def _block(mesh, geo, points, elements, shear, poisson, h, g) -> None:
     collinear_runs, near, regular = classify(mesh, geo, points, elements)
     for qs, nodes, c, own in collinear_runs:
         e = elements[qs]
+        if nodes.ndim == 2:  # elements alone on their lines, against their own nodes: scatter the valid pairs
+            values = collinear.integrals(c, own, geo.coeff[e], geo.half[e], geo.tangent[e], shear, poisson)
+            pair, slot = np.nonzero(nodes >= 0)
+            h[qs[pair], :, :, nodes[pair, slot], :] = values[0][pair, :, :, slot, :]
+            g[qs[pair], :, :, nodes[pair, slot], :] = values[1][pair, :, :, slot, :]
+            continue
         rows, columns = _span(qs), _span(nodes)
         if isinstance(rows, slice) and isinstance(columns, slice):  # written in place
             out = (h[rows, :, :, columns], g[rows, :, :, columns])

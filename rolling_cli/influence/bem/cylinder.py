@@ -1,0 +1,189 @@
+"""BEM model of a finite cylinder: the annulus r_i < r < R bonded to a rigid shaft at r = r_i.
+
+Frame (the block frame of :mod:`.mesh`): the cylinder's centre at (0, -R), the
+contact at the top, around (0, 0); x along the surface, y up, the body below.
+A contact grid coordinate s [length] is the arc length along the outer circle
+from the top towards +x, at the angle theta = s / R (clockwise from +y).
+
+Mesh (:func:`annulus_mesh`): straight quadratic elements whose geometric
+nodes lie on the circles. The outer circle carries the contact grid's
+discontinuous elements (edges at the grid's angles, so the contact nodes sit
+on the chords of the contact arc) and continuous traction-free elements graded
+away from the zone by arc length, up to ``largest``; the bore's elements have
+their displacement prescribed (zero: bonded to the shaft, which is the
+reference of the body's motion) and are graded from the top, starting at the
+size of the contact zone's longest element or an eighth of the section's
+thickness, whichever is larger. The mesh is its own mirror image in x = 0, so
+the boundary system splits into two halves (:mod:`.symmetry`).
+
+Condensation (:func:`condensed`): the contact displacements per unit nodal
+traction, first in the frame's x and y components (:func:`.condense.contact_blocks`,
+no far field), then rotated into each contact node's own directions on the
+arc: the tangent tau = (cos theta, -sin theta) (along increasing s) and the
+outward normal nu = (sin theta, cos theta). Per the
+:class:`~rolling_cli.influence.Compliance` convention p_n = t . nu
+(negative in compression), p_t = t . tau, w = -u . nu (into the body),
+u_t = u . tau. The bore being fixed, the normal displacement is definite: the
+approach of the contact surface towards the shaft.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...grid import ContactGrid
+from .. import Compliance
+from .condense import contact_blocks, factorise, solve
+from .mesh import BoundaryMesh, _Builder, graded_edges
+from .symmetry import reductions
+from .system import mixed_systems
+
+__all__ = ["annulus_mesh", "annulus_size", "contact_angles", "condensed", "xy_compliance", "rotate"]
+
+#: Default largest element, as a fraction of the circumference (64 elements round a circle at least).
+ARC_FRACTION = 1.0 / 64.0
+
+
+def _circle(radius: float, centre_y: float, theta: np.ndarray) -> np.ndarray:
+    """Points at angles ``theta`` (clockwise from +y) on the circle of ``radius`` centred at (0, centre_y)."""
+    x = radius * np.sin(theta)
+    x[np.abs(x) < 1e-14 * radius] = 0.0  # the top and bottom points exactly on the mirror axis
+    return np.column_stack([x, centre_y + radius * np.cos(theta)])
+
+
+def annulus_mesh(
+    grid: ContactGrid, radius: float, inner_radius: float, growth: float = 1.4, largest: float | None = None
+) -> BoundaryMesh:
+    """The annulus ``inner_radius`` < r < ``radius`` [length] with the contact grid on its outer circle.
+
+    The grid (quadratic elements, centred on s = 0) is in arc length along the
+    outer circle and must span less than half of it. Elements away from the
+    zone grow by ``growth`` per element from the adjacent contact element's
+    length up to ``largest`` [length] (default: the smaller of the section's
+    thickness and the outer circumference / 64; on the bore, at most its own
+    circumference / 64).
+    """
+    if grid.order != 2:
+        raise ValueError("the BEM model uses the quadratic contact elements")
+    if not 0.0 < inner_radius < radius:
+        raise ValueError("the annulus needs 0 < inner_radius < radius")
+    edges = np.asarray(grid.edges, dtype=float)
+    if abs(edges[0] + edges[-1]) > 1e-9 * (edges[-1] - edges[0]):
+        raise ValueError("the contact grid must be centred on the top of the cylinder")
+    c = float(edges[-1])
+    if not c < 0.5 * np.pi * radius:
+        raise ValueError("the contact zone must span less than half the circumference")
+    thickness = radius - inner_radius
+    lengths = np.diff(edges)
+    half, big = _outer_edges(c, float(lengths[-1]), radius, thickness, growth, largest)
+    centre_y = -radius
+    b = _Builder([], [], [], [], [])
+    # the contact zone, counter-clockwise (from +s to -s)
+    first_contact = len(b.nodes)
+    b.segment(_circle(radius, centre_y, edges[::-1] / radius), fixed=False, discontinuous=True)
+    contact = np.arange(first_contact, len(b.nodes))
+    # the free outer arc, counter-clockwise from s = -c round the bottom to s = +c; mirror-symmetric
+    arc = np.concatenate([-half, half[::-1][1:] - 2.0 * np.pi * radius])
+    b.segment(_circle(radius, centre_y, arc / radius), fixed=False)
+    # the bore, clockwise (the domain on the left), from the bottom through -x, the top and +x back
+    half = _bore_edges(float(lengths.max()), c / radius, inner_radius, thickness, growth, big)
+    bore = np.concatenate([-half[::-1], half[1:]]) / inner_radius
+    b.segment(_circle(inner_radius, centre_y, bore), fixed=True)
+    return b.mesh(np.zeros(len(b.nodes), dtype=bool), contact)
+
+
+def _outer_edges(c: float, h_end: float, radius: float, thickness: float, growth: float, largest: float | None):
+    """The free outer arc's edges from the zone's end at s = c to the bottom, and the element cap."""
+    big = largest if largest is not None else 2.0 * np.pi * radius * ARC_FRACTION
+    return graded_edges(c, np.pi * radius, h_end, growth, big), big
+
+
+def _bore_edges(
+    h_max: float, zone_angle: float, inner_radius: float, thickness: float, growth: float, big: float
+) -> np.ndarray:
+    """The bore's edges in arc length from its top to its bottom: equal ones of the larger of the
+    longest contact element and an eighth of the thickness (at most the thickness, as a flat
+    layer's bottom) under the zone (angles up to ``zone_angle``), then graded by distance."""
+    inner_big = min(big, 2.0 * np.pi * inner_radius * ARC_FRACTION)
+    first = min(inner_big, thickness, max(h_max, thickness / 8.0))
+    under = zone_angle * inner_radius
+    count = max(1, int(np.ceil(under / first - 1e-9)))
+    uniform = np.linspace(0.0, under, count + 1)
+    graded = graded_edges(under, np.pi * inner_radius, float(uniform[1] - uniform[0]), growth, inner_big)
+    return np.concatenate([uniform, graded[1:]])
+
+
+def annulus_size(
+    zone_half_width: float, elements: int, radius: float, inner_radius: float, growth: float = 1.4
+) -> tuple[int, int]:
+    """Boundary nodes N and elements E of :func:`annulus_mesh` for a uniform contact grid, without building it.
+
+    Contact: 3 nodes per element; the free arc and the bore are one segment each of k elements
+    with 2 k + 1 nodes (continuous inside, partially discontinuous at the segment's two ends).
+    """
+    h = 2.0 * zone_half_width / elements
+    thickness = radius - inner_radius
+    outer, big = _outer_edges(zone_half_width, h, radius, thickness, growth, None)
+    k_outer = 2 * (outer.size - 1)
+    k_bore = 2 * (_bore_edges(h, zone_half_width / radius, inner_radius, thickness, growth, big).size - 1)
+    return 3 * elements + 2 * k_outer + 1 + 2 * k_bore + 1, elements + k_outer + k_bore
+
+
+def contact_angles(mesh: BoundaryMesh, radius: float) -> np.ndarray:
+    """The polar angle theta (clockwise from +y, about the centre (0, -R)) of each contact node (n_c,)."""
+    nodes = mesh.nodes[mesh.contact]
+    return np.arctan2(nodes[:, 0], nodes[:, 1] + radius)
+
+
+def xy_compliance(
+    mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, mirror: bool = True
+) -> np.ndarray:
+    """C (n_c, 2, n_c, 2) [length/stress]: C[i, k, j, l] = du_k(i) / dt_l(j), the x and y components of
+    the contact displacement at node i per unit nodal traction at node j, for the bonded bore."""
+    nc = grid.size
+    if mesh.contact.size != nc:
+        raise ValueError("the BEM contact nodes do not match the contact grid")
+    far = np.zeros((2 * mesh.size, 2))  # no far field: the shaft is the reference
+    shear = young / (2.0 * (1.0 + poisson))
+    parts = reductions(mesh, far, grid.weights, mirror)
+    systems = mixed_systems(mesh, shear, poisson, far, parts)
+    solutions = []
+    while systems:
+        system = systems.pop(0)
+        solutions.append(solve(factorise(system.matrix), system.rhs, overwrite=True))
+        del system
+    blocks = contact_blocks(solutions, parts, mesh, grid.weights)
+    out = np.empty((nc, 2, nc, 2))
+    out[:, 0, :, 0] = blocks["S_tt"]
+    out[:, 0, :, 1] = blocks["S_tn"]
+    out[:, 1, :, 0] = -blocks["S_nt"]
+    out[:, 1, :, 1] = -blocks["S_nn"]
+    return out
+
+
+def rotate(xy: np.ndarray, theta: np.ndarray) -> dict[str, np.ndarray]:
+    """The arc-frame blocks S_nn, S_nt, S_tn, S_tt (n_c, n_c) [length/stress] of an xy compliance
+    (n_c, 2, n_c, 2) with contact nodes at the angles ``theta`` (module docstring)."""
+    tau = np.column_stack([np.cos(theta), -np.sin(theta)])
+    nu = np.column_stack([np.sin(theta), np.cos(theta)])
+
+    def block(left: np.ndarray, right: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(np.einsum("ik,ikjl,jl->ij", left, xy, right, optimize=True))
+
+    return {"S_tt": block(tau, tau), "S_tn": block(tau, nu), "S_nt": -block(nu, tau), "S_nn": -block(nu, nu)}
+
+
+def condensed(
+    grid: ContactGrid,
+    radius: float,
+    inner_radius: float,
+    young: float,
+    poisson: float,
+    largest: float | None = None,
+    mirror: bool = True,
+) -> Compliance:
+    """Condensed compliance of the bonded annulus on the contact grid, in the arc's directions
+    [length/stress] (module docstring); lengths [length], ``young`` E [stress]."""
+    mesh = annulus_mesh(grid, radius, inner_radius, largest=largest)
+    blocks = rotate(xy_compliance(mesh, grid, young, poisson, mirror), contact_angles(mesh, radius))
+    return Compliance(x=grid.x, weights=grid.weights, definite_normal=True, **blocks)

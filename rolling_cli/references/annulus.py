@@ -1,0 +1,141 @@
+"""Michell's Fourier-series solution for an annulus bonded to a rigid shaft (plane strain).
+
+The annulus r_i < r < R, displacement zero at r = r_i, under a given surface
+traction at r = R: sigma_rr(R, theta) = f(theta) (negative in compression)
+and sigma_rtheta(R, theta) = g(theta) (along increasing theta). The equations
+of elasticity are invariant under the reflection theta -> -theta, u_theta ->
+-u_theta, so theta may run either way round as long as g and u_theta follow it.
+
+Derivation (Navier's equations in polar coordinates, lambda and G the Lamé
+constants, k = (lambda + 2G)/G = 2 (1 - nu)/(1 - 2 nu)). A mode
+u_r = U(r) cos(n theta), u_theta = V(r) sin(n theta) has the dilatation
+E(r) cos(n theta), E = U' + (U + n V)/r, and twice the rotation
+W(r) sin(n theta), W = V' + (V + n U)/r, with
+
+    k E' = n W / r,    W' = k n E / r,
+
+so E = r^(+-n), W = +-k r^(+-n) (and E = W = 0). Integrating U and V back:
+
+* E = W = 0: U = r^(n-1), V = -r^(n-1) and U = V = r^(-n-1);
+* E = r^n: U = a r^(n+1), V = b r^(n+1) with (n+2) a + n b = 1, n a + (n+2) b = k;
+* E = r^-n (n >= 2): U = a r^(1-n), V = b r^(1-n) with (2-n) a + n b = 1,
+  n a + (2-n) b = -k;
+* n = 1, E = 1/r: this resonates with the translation U = 1, V = -1 and
+  gives U = (1+k)/2 ln r + (1-k)/2, V = -(1+k)/2 ln r (the line force's
+  logarithm, the term that carries the resultant into the shaft);
+* n = 0: U = r, 1/r (axisymmetric) and, for u_theta alone, V = r, 1/r (torsion).
+
+The tractions on r = R are sigma_rr = G [k U' + (k - 2)(U + n V)/r] cos(n theta)
+and sigma_rtheta = G [V' - (V + n U)/r] sin(n theta). Per mode the four
+coefficients follow from U = V = 0 at r_i and the two tractions at R (a 4x4
+system; negative powers are normalised at r_i and positive ones at R, so
+nothing overflows for large n). The sine modes are the cosine ones with V and
+the shear's sign flipped. nu must be below 0.5 (k is infinite there).
+
+The load is given by samples on a uniform angular grid (FFT), the response
+returned on the same grid: :func:`surface_displacement`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["mode_responses", "surface_displacement"]
+
+
+def _basis(n: np.ndarray, rho: float, rho_i: float, k: float):
+    """(U, dU/drho, V, dV/drho), each (modes, 4): the four solutions of each mode n >= 1 at radius
+    ``rho`` (r / R), dimensionless."""
+    n = n.astype(float)
+    U = np.empty((n.size, 4))
+    dU = np.empty_like(U)
+    V = np.empty_like(U)
+    dV = np.empty_like(U)
+
+    def power(col, p, ref, a, b):
+        f = (rho / ref) ** p
+        U[:, col], V[:, col] = a * f, b * f
+        dU[:, col], dV[:, col] = a * p * f / rho, b * p * f / rho
+
+    one = np.ones_like(n)
+    power(0, n - 1.0, 1.0, one, -one)  # harmonic, r^(n-1) (the translation for n = 1)
+    power(1, -n - 1.0, rho_i, one, one)  # harmonic, r^(-n-1)
+    det = 4.0 * (n + 1.0)
+    power(2, n + 1.0, 1.0, ((n + 2.0) - n * k) / det, ((n + 2.0) * k - n) / det)  # E = r^n
+    m = n >= 2
+    nm = np.where(m, n, 2.0)
+    det = 4.0 * (1.0 - nm)
+    power(3, 1.0 - nm, rho_i, ((2.0 - nm) + nm * k) / det, (-(2.0 - nm) * k - nm) / det)  # E = r^-n
+    first = ~m  # n = 1: the logarithmic solution
+    alpha = 0.5 * (1.0 + k)
+    log = np.log(rho)
+    U[first, 3] = alpha * log + 0.5 * (1.0 - k)
+    V[first, 3] = -alpha * log
+    dU[first, 3] = alpha / rho
+    dV[first, 3] = -alpha / rho
+    return U, dU, V, dV
+
+
+def mode_responses(modes: int, radius_ratio: float, poisson: float) -> np.ndarray:
+    """Outer-surface response of modes n = 1 .. ``modes``: (modes, 2, 2) dimensionless.
+
+    Entry [n-1, p, q]: p = 0 the amplitude of G u_r / R (cos n theta), p = 1 of
+    G u_theta / R (sin n theta); q = 0 per unit sigma_rr amplitude (cos n theta),
+    q = 1 per unit sigma_rtheta amplitude (sin n theta). ``radius_ratio`` r_i / R.
+    """
+    k = 2.0 * (1.0 - poisson) / (1.0 - 2.0 * poisson)
+    n = np.arange(1, modes + 1)
+    rho_i = float(radius_ratio)
+    Ui, _, Vi, _ = _basis(n, rho_i, rho_i, k)
+    Uo, dUo, Vo, dVo = _basis(n, 1.0, rho_i, k)
+    nn = n[:, None].astype(float)
+    srr = k * dUo + (k - 2.0) * (Uo + nn * Vo)
+    srt = dVo - (Vo + nn * Uo)
+    system = np.stack([Ui, Vi, srr, srt], axis=1)  # (modes, 4 conditions, 4 coefficients)
+    rhs = np.zeros((n.size, 4, 2))
+    rhs[:, 2, 0] = 1.0
+    rhs[:, 3, 1] = 1.0
+    coeff = np.linalg.solve(system, rhs)  # (modes, 4, 2)
+    return np.stack([np.einsum("mc,mcq->mq", Uo, coeff), np.einsum("mc,mcq->mq", Vo, coeff)], axis=1)
+
+
+def _axisymmetric(radius_ratio: float, poisson: float) -> tuple[float, float]:
+    """n = 0: G u_r / R per unit uniform sigma_rr and G u_theta / R per unit uniform sigma_rtheta."""
+    k = 2.0 * (1.0 - poisson) / (1.0 - 2.0 * poisson)
+    rho_i = float(radius_ratio)
+    # u_r = A rho + B / rho, u_r(rho_i) = 0, sigma_rr / G = A (2k - 2) - 2 B at rho = 1
+    radial = np.linalg.solve([[rho_i, 1.0 / rho_i], [2.0 * k - 2.0, -2.0]], [0.0, 1.0])
+    # u_theta = C rho + D / rho, u_theta(rho_i) = 0, sigma_rtheta / G = -2 D at rho = 1
+    torsion = np.linalg.solve([[rho_i, 1.0 / rho_i], [0.0, -2.0]], [0.0, 1.0])
+    return float(radial.sum()), float(torsion.sum())
+
+
+def surface_displacement(
+    sigma_rr: np.ndarray, sigma_rt: np.ndarray, radius: float, inner_radius: float, shear: float, poisson: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """u_r and u_theta [length] at r = R for tractions sampled at theta_j = 2 pi j / M.
+
+    ``sigma_rr``, ``sigma_rt`` (M,) [stress] the traction on the outer surface
+    (M even; the series is cut at n = M/2 - 1); ``radius`` R and
+    ``inner_radius`` r_i [length]; ``shear`` G [stress]; 0 <= ``poisson`` < 0.5.
+    Returns u_r (outward) and u_theta (along increasing theta) at the same angles.
+    """
+    sigma_rr = np.asarray(sigma_rr, dtype=float)
+    sigma_rt = np.asarray(sigma_rt, dtype=float)
+    m = sigma_rr.size
+    if m % 2 or sigma_rt.size != m:
+        raise ValueError("the samples must be an even number M of points, the same for both tractions")
+    modes = m // 2 - 1
+    s_hat = np.fft.rfft(sigma_rr)  # sigma = Re sum c_n e^{i n theta}, c_n = 2 X_n / M (n >= 1)
+    t_hat = 1j * np.fft.rfft(sigma_rt)  # sigma_rt = Re sum (-i T_n) e^{i n theta}
+    response = mode_responses(modes, inner_radius / radius, poisson)
+    n = slice(1, modes + 1)
+    u_hat = np.zeros_like(s_hat)
+    v_hat = np.zeros_like(s_hat)
+    u_hat[n] = response[:, 0, 0] * s_hat[n] + response[:, 0, 1] * t_hat[n]
+    v_hat[n] = -1j * (response[:, 1, 0] * s_hat[n] + response[:, 1, 1] * t_hat[n])
+    radial, torsion = _axisymmetric(inner_radius / radius, poisson)
+    u_hat[0] = radial * s_hat[0]
+    v_hat[0] = torsion * (-1j * t_hat[0])  # the mean shear, real
+    scale = radius / shear
+    return scale * np.fft.irfft(u_hat, m), scale * np.fft.irfft(v_hat, m)
