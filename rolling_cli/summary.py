@@ -29,6 +29,9 @@ def _sensitivity_lines(attrs, length: str, stress: str, line: str) -> list[str]:
     """The derivatives of the solve (:mod:`rolling_cli.solver.sensitivity`), when recorded."""
     if "dQ_dxi" not in attrs and "da_dP" not in attrs:
         return []
+    names = ("dQ_dxi", "dQ_dmu", "dQ_dP", "dxi_dQ", "dxi_dmu", "dxi_dP", "da_dP", "dp0_dP")
+    if all(_fmt(attrs.get(name)) == "undefined" for name in names):
+        return ["  sensitivity    not computed (a failed solve, a singular final matrix or a slip-speed friction law)"]
     per_load = f"1/({line})"
     return [
         f"  sensitivity    creep coefficient dQ/dxi = {_fmt(attrs.get('dQ_dxi'))} {line}, "

@@ -338,6 +338,14 @@ def _check_shapes(case: schema.Case, file: str | None) -> None:
                     file, f"{key}.inner_radius", body.inner_radius, 'not used by shape = "half-space"', "remove it"
                 )
             continue
+        if body.kind == "viscoelastic" or getattr(body, "viscoelastic", False):
+            raise _fail(
+                file,
+                f"{key}.shape",
+                body.shape,
+                "a viscoelastic finite cylinder is not implemented (the steady-rolling kernels are the half-plane's)",
+                '"half-space"',
+            )
         if math.isinf(body.radius):
             raise _fail(
                 file,
