@@ -20,10 +20,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 
 from .case import Case, with_overrides
 from .errors import ConvergenceError
 from .result import Result, recorded
+from .solver.formulation import State
 
 #: ``solver.branch`` -> the ``branch`` a result on it records.
 BRANCHES = {"low-slip": "rising", "high-slip": "falling"}
@@ -36,25 +38,30 @@ FALSI_STEPS = 40
 FALSI_TOLERANCE = 1e-6
 
 
-def on_branch(case: Case, result: Result) -> Result:
-    """``result`` if it lies on the branch ``case.solver.branch`` asks for, else the solution of the
-    same force on that branch (module docstring). Raises ConvergenceError when that branch does not
-    carry the force."""
-    from . import pipeline
-    from .path import result_state
+def result_state(result: Result) -> State:
+    """The solver state of a converged result (its tractions [stress], overlap [length], creepage)."""
+    return State(
+        result.p_n, result.p_t, recorded(result.solved_overlap, "solved_overlap"), recorded(result.creep, "creep")
+    )
 
+
+def on_branch(case: Case, result: Result, solve: Callable[..., Result], prepare: Callable) -> Result:
+    """``result`` if it lies on the branch ``case.solver.branch`` asks for, else the solution of the
+    same force on that branch (module docstring), by ``solve(case, start=, system=)`` on the
+    system that ``prepare(case)`` builds (the pipeline's own, passed in: this module runs below it).
+    Raises ConvergenceError when that branch does not carry the force."""
     wanted = BRANCHES[case.solver.branch]
     if result.branch == wanted:
         return result
     auto = dataclasses.replace(case, solver=dataclasses.replace(case.solver, branch="auto"))
-    the_plan, system = pipeline.prepare(auto)
+    the_plan, system = prepare(auto)
     target = abs(recorded(result.tangential_load, "tangential_load"))
     scale = recorded(result.mu, "mu") * recorded(result.normal_load, "normal_load")
     found_creep = float(recorded(result.creep, "creep"))
 
     def at(creep: float, start) -> Result:
         creep_case = with_overrides(auto, {"tangential.creep": creep})
-        return pipeline.solve(creep_case, start=start, system=system)
+        return solve(creep_case, start=start, system=system)
 
     factor = WALK if wanted == "falling" else 1.0 / WALK
     previous, xi = result, found_creep
@@ -79,7 +86,7 @@ def on_branch(case: Case, result: Result) -> Result:
             f"that branch stays above it (smallest {lowest[0]:.6g} at xi = {lowest[1]:.6g})"
         )
     bracketed = _falsi(crossing, target, scale, at)
-    solved = pipeline.solve(auto, start=result_state(bracketed), system=system)
+    solved = solve(auto, start=result_state(bracketed), system=system)
     if solved.branch != wanted:
         raise ConvergenceError(
             f"the force-controlled solve from the {case.solver.branch} branch's bracket (xi = "
@@ -95,8 +102,6 @@ def on_branch(case: Case, result: Result) -> Result:
 
 def _falsi(crossing: tuple[Result, Result], target: float, scale: float, at) -> Result:
     """Close the bracket of |Q(xi)| - target by the Illinois regula falsi on creepage-controlled solves."""
-    from .path import result_state
-
     (left, right) = crossing
     f_left = abs(recorded(left.tangential_load, "tangential_load")) - target
     f_right = abs(recorded(right.tangential_load, "tangential_load")) - target

@@ -18,19 +18,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import pipeline
+from .branches import result_state
 from .case import Case, with_overrides
 from .errors import RollingError
 from .result import Result, recorded
 from .solver import continuation, predictor
-from .solver.formulation import State
 from .system import ContactSystem
-
-
-def result_state(result: Result) -> State:
-    """The solver state of a converged result."""
-    return State(
-        result.p_n, result.p_t, recorded(result.solved_overlap, "solved_overlap"), recorded(result.creep, "creep")
-    )
 
 
 def result_zones(result: Result) -> predictor.Zones:

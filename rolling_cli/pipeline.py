@@ -840,7 +840,7 @@ def solve(
     if case.solver.branch != "auto" and result.converged:
         from .branches import on_branch
 
-        result = on_branch(case, result)
+        result = on_branch(case, result, solve, prepare)
     return _attach_stresses(final.case, final.plan, result)
 
 
