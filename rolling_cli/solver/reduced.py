@@ -19,7 +19,7 @@ import numpy as np
 
 from ..influence.toeplitz import apply_sum
 from .formulation import Evaluation, Layout, NodeSets, Problem, State, node_sets
-from .linalg import solve_dense
+from .linalg import block, solve_dense
 
 if TYPE_CHECKING:  # the matrix-free path is imported only when a system uses it (start-up time)
     from .matrix_free import ReducedOperator
@@ -110,7 +110,7 @@ def _slip_terms(system, stick: np.ndarray, slip: np.ndarray, p_t_slip, p_n: np.n
         if system.B_tn is not None:
             terms.append((system.B_tn, p_n))
         return apply_sum(terms)[stick]
-    out = _block(system.B_tt, stick, slip) @ p_t_slip
+    out = block(system.B_tt, stick, slip) @ p_t_slip
     if system.B_tn is not None:
         out = out + system.B_tn[stick] @ p_n
     return out
@@ -125,21 +125,21 @@ def dense_matrix(problem: Problem, lay: Layout) -> np.ndarray:
     A = np.zeros((lay.size, lay.size), order="F")  # LAPACK layout: no copy before the LU
     rows_n, rows_t = slice(0, nc), slice(nc, nc + ns)
     if problem.normal:
-        a_nn = _block(system.S_nn, c_idx, c_idx)
+        a_nn = block(system.S_nn, c_idx, c_idx)
         if system.S_nt is not None and coef is not None:
-            a_nn = a_nn + _block(system.S_nt, c_idx, c_idx) * coef[None, :]
+            a_nn = a_nn + block(system.S_nt, c_idx, c_idx) * coef[None, :]
         A[rows_n, :nc] = r_n * a_nn
         if system.S_nt is not None and problem.tangential:
-            A[rows_n, nc : nc + ns] = r_n * _block(system.S_nt, c_idx, st_idx)
+            A[rows_n, nc : nc + ns] = r_n * block(system.S_nt, c_idx, st_idx)
         if lay.col_overlap is not None:  # unknown r_n * overlap, in stress units like the tractions
             A[rows_n, lay.col_overlap] = -1.0
             A[lay.col_overlap, :nc] = w[c_idx] / lz
     if problem.tangential:
-        A[rows_t, nc : nc + ns] = r_t * _block(system.B_tt, st_idx, st_idx)
+        A[rows_t, nc : nc + ns] = r_t * block(system.B_tt, st_idx, st_idx)
         if problem.normal and coef is not None:  # the coupled mode
-            a_tn = _block(system.B_tt, st_idx, c_idx) * coef[None, :]
+            a_tn = block(system.B_tt, st_idx, c_idx) * coef[None, :]
             if system.B_tn is not None:
-                a_tn = a_tn + _block(system.B_tn, st_idx, c_idx)
+                a_tn = a_tn + block(system.B_tn, st_idx, c_idx)
             A[rows_t, :nc] = r_t * a_tn
         if lay.col_creep is not None:  # unknown r_t * creep, in stress units like the tractions
             A[rows_t, lay.col_creep] = lay.creep_vector
@@ -164,26 +164,6 @@ def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluatio
     return ReducedSystem(
         matrix, lay.rhs, sets, lay.coef, lay.p_t_slip, lay.col_overlap, lay.col_creep, lay.creep_column
     )
-
-
-def _index(idx: np.ndarray):
-    """A slice when the index set is one contiguous run (the usual contact or adhesion zone), else the
-    index array: slicing a block is a view, several times cheaper than a fancy-index gather."""
-    if idx.size and idx[-1] - idx[0] + 1 == idx.size:
-        return slice(int(idx[0]), int(idx[-1]) + 1)
-    return idx
-
-
-def _block(matrix: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-    """matrix[rows][:, cols] for index arrays."""
-    r, c = _index(rows), _index(cols)
-    if isinstance(r, slice) and isinstance(c, slice):
-        return matrix[r, c]
-    if isinstance(r, slice):
-        return matrix[r][:, c]
-    if isinstance(c, slice):
-        return matrix[r, c]
-    return matrix[np.ix_(r, c)]
 
 
 def state_from_solution(problem: Problem, state: State, reduced: ReducedSystem, z: np.ndarray) -> State:

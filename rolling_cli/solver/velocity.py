@@ -30,8 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .formulation import Evaluation, Problem, State, node_sets
+from .linalg import block as _dense_block
 from .linalg import solve_dense
-from .reduced import _block as _dense_block
 
 
 def _block(matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
