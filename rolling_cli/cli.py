@@ -21,71 +21,9 @@ import click
 
 from ._version import __version__
 from .errors import CaseError, GrossSlidingError, RollingError, SolveError
+from .terminal import Progress, log_levels, setup_logging, verbosity_options  # noqa: F401 (log_levels: the CLI's public name)
 
 log = logging.getLogger("rolling_cli")
-
-
-#: The one handler the CLI puts on the root logger (replaced when -v/-q change after the subcommand).
-_handler: logging.Handler | None = None
-
-
-def log_levels(verbose: int, quiet: int) -> tuple[int, int]:
-    """(rolling_cli's level, everyone else's) for ``-v``/``-q`` counts: rolling_cli's warnings by
-    default and with ``-q`` (which drops the summary), its stages, strategies and timings with
-    ``-v``, its debug lines with ``-vv``, errors only with ``-qq``. Third-party loggers (h5py,
-    matplotlib, distributed) show warnings only, unless asked with ``-vvv``."""
-    net = verbose - quiet
-    ours = logging.DEBUG if net >= 2 else logging.INFO if net == 1 else logging.WARNING if net >= -1 else logging.ERROR
-    theirs = logging.DEBUG if net >= 3 else logging.WARNING if net >= -1 else logging.ERROR
-    return ours, theirs
-
-
-class _Stderr(logging.StreamHandler):
-    """A handler writing to whatever ``sys.stderr`` is when a record comes (click's test runner swaps it)."""
-
-    @property
-    def stream(self):
-        return sys.stderr
-
-    @stream.setter
-    def stream(self, value) -> None:
-        pass
-
-
-def _setup_logging(verbose: int, quiet: int) -> None:
-    """Logging to stderr at the levels of :func:`log_levels` (only the CLI sets up logging)."""
-    global _handler
-    ours, theirs = log_levels(verbose, quiet)
-    root = logging.getLogger()
-    if _handler is not None:
-        root.removeHandler(_handler)
-    _handler = _Stderr()
-    _handler.setFormatter(logging.Formatter("%(levelname)s: %(message)s"))
-    root.addHandler(_handler)
-    root.setLevel(theirs)
-    logging.getLogger("rolling_cli").setLevel(ours)
-
-
-def _verbosity(ctx: click.Context, param: click.Parameter, value: int) -> None:
-    """``-v``/``-q`` after the subcommand: added to the counts given before it, logging set up again."""
-    if not value or ctx.resilient_parsing:
-        return
-    state = ctx.find_object(dict)
-    if state is None:
-        return
-    state[param.name] += value
-    state["quiet"] = state["q"] > 0
-    _setup_logging(state["v"], state["q"])
-
-
-def verbosity_options(command):
-    """The ``-v``/``-q`` options of the group, accepted after a subcommand too (``rollc solve case.toml -q``)."""
-    command = click.option(
-        "-q", "--quiet", "q", count=True, expose_value=False, callback=_verbosity, help="As rollc -q."
-    )(command)
-    return click.option(
-        "-v", "--verbose", "v", count=True, expose_value=False, callback=_verbosity, help="As rollc -v."
-    )(command)
 
 
 def _fail(message: str, code: int) -> None:
@@ -160,7 +98,7 @@ def default_output(case_path: str, configured: str | None) -> str:
 @click.pass_context
 def main(ctx: click.Context, verbose: int, quiet: int) -> None:
     """rollc: steady 2D rolling contact of elastic cylinders (BEM + generalised Newton)."""
-    _setup_logging(verbose, quiet)
+    setup_logging(verbose, quiet)
     ctx.obj = {"quiet": quiet > 0, "v": verbose, "q": quiet}
 
 
@@ -389,27 +327,6 @@ def table(ctx, case_file, output, tolerance, span, overwrite, no_cache):
         _fail("interrupted: nothing was written", 130)
 
 
-class Progress:
-    """A one-line progress bar on stderr; silent when stderr is not a terminal."""
-
-    def __init__(self, stream=None) -> None:
-        self.stream = stream or sys.stderr
-        self.active = self.stream.isatty()
-        self.start = time.perf_counter()
-
-    def __call__(self, done: int, total: int, failed: int) -> None:
-        if not self.active:
-            return
-        width = 30
-        filled = int(width * done / max(total, 1))
-        bar = "#" * filled + "-" * (width - filled)
-        extra = f", {failed} failed" if failed else ""
-        self.stream.write(f"\r  sweep [{bar}] {done}/{total}{extra}, {time.perf_counter() - self.start:.1f} s")
-        self.stream.flush()
-        if done >= total:
-            self.stream.write("\n")
-
-
 @main.command()
 @verbosity_options
 @click.argument("case_file", type=click.Path(dir_okay=False))
@@ -460,6 +377,9 @@ def sweep(
     make_plot,
 ):
     """Solve CASE_FILE for every combination of swept values (or its [sweep] table)."""
+    # Over 80 lines for a reason: one click command whose eleven options each map to one argument of
+    # rolling_cli.sweep.run, with the one-line refusal of each meaningless combination next to the
+    # option it names; split, the refusals would sit far from their options.
 
     def action():
         from . import outputs
