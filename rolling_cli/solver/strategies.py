@@ -344,10 +344,17 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
     Q is continuous and non-increasing in xi. A bracket [lo, hi] with f(lo) > 0 >
     f(hi) is kept once found; a Newton step (dQ/dxi from the reduced Jacobian of
     the converged inner solve) that leaves it, or a derivative that does not
-    decrease, is replaced by bisection; before a bracket exists the step expands
-    geometrically in the direction of the root. Stops when the force residual is
-    below the tolerance (the inner solve converged too); raises when the bracket
-    closes to round-off without that (Q jumps) or the budget is spent.
+    decrease, is replaced by regula falsi between the ends (Illinois: an end kept
+    twice in a row counts half), and by bisection when |f| did not fall; before a
+    bracket exists the step expands geometrically in the direction of the root.
+    A solution in full slip one way holds unchanged up to the creepage where the
+    first node's slip reaches zero (:func:`_full_slip_edge`), so the bracket end
+    moves there at no cost. Near full slip the root lies just short of that edge,
+    where Q - Q_target falls steeply: Newton steps from the other side overshoot it
+    and bisection took a dozen solves more (issue 26: the small-friction coupled
+    family, 15-25 iterations less a case, benchmarks/RESULTS.md). Stops when the force
+    residual is below the tolerance (the inner solve converged too); raises when the
+    bracket closes to round-off without that (Q jumps) or the budget is spent.
 
     Over 80 lines for a reason: the bracket, the Newton step and the bisection update one
     loop state (bracket ends, their residuals, the last converged state), which helpers would
@@ -358,6 +365,8 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
     lz = system.zone_length
     name = "creep root"
     lo = hi = None
+    f_lo = f_hi = 0.0
+    kept = 0  # +1 / -1: the low / high end kept by the last regula falsi step, once or more (Illinois)
     current = state.copy()
     step = None
     last_f = None
@@ -386,20 +395,31 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
         if abs(f) <= budget.history[-1]["tolerance"]:
             ev = formulation.evaluate(problem, current, formulation.traction_scales(problem, current))
             return Solution(current, ev, problem)
+        edge = _full_slip_edge(system, current, inner.evaluation)
+        if edge is not None:  # the same solution holds from xi to the edge: go there
+            moved = current.copy()
+            moved.creep = xi = edge
+            solved.append((edge, dataclasses.replace(inner, state=moved)))
         if f > 0.0:
-            lo = xi if lo is None else max(lo, xi)
-        else:
-            hi = xi if hi is None else min(hi, xi)
-        try:
-            budget.take()
-            d_q, dp_n = reduced.creep_derivatives(held, current, inner.evaluation)
-            _, d_target = problem.force_target(current.p_n)
-            if d_target is not None:  # overlap control: Q_target = (Q/P) P moves with P(xi)
-                d_q -= float(d_target @ dp_n)
-        except BudgetExhausted:
-            raise StrategyFailed(name, "budget", "budget", current, abs(f)) from None
-        except np.linalg.LinAlgError:  # a singular sensitivity system: bracketing alone
+            if lo is None or xi > lo:
+                lo, f_lo = xi, f
+                kept = min(kept, 0) - 1 if hi is not None else 0
+        elif hi is None or xi < hi:
+            hi, f_hi = xi, f
+            kept = max(kept, 0) + 1 if lo is not None else 0
+        if edge is not None:  # Q does not move with xi here
             d_q = 0.0
+        else:
+            try:
+                budget.take()
+                d_q, dp_n = reduced.creep_derivatives(held, current, inner.evaluation)
+                _, d_target = problem.force_target(current.p_n)
+                if d_target is not None:  # overlap control: Q_target = (Q/P) P moves with P(xi)
+                    d_q -= float(d_target @ dp_n)
+            except BudgetExhausted:
+                raise StrategyFailed(name, "budget", "budget", current, abs(f)) from None
+            except np.linalg.LinAlgError:  # a singular sensitivity system: bracketing alone
+                d_q = 0.0
         derivative = d_q / (lz * scale)
         proposal = xi - f / derivative if derivative < 0.0 else None
         if lo is not None and hi is not None:
@@ -412,13 +432,18 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
                     abs(f),
                 )
             if proposal is None or not lo < proposal < hi:
+                # regula falsi between the ends, the end kept twice or more weighed down (Illinois)
+                weight_lo = 0.5 if kept >= 2 else 1.0
+                weight_hi = 0.5 if kept <= -2 else 1.0
+                proposal = lo + (hi - lo) * weight_lo * f_lo / (weight_lo * f_lo - weight_hi * f_hi)
+            if proposal is None or not lo < proposal < hi:
                 proposal = 0.5 * (lo + hi)
+            if last_f is not None and abs(f) >= abs(last_f) and f * last_f > 0.0:
+                proposal = 0.5 * (lo + hi)  # no progress: bisect
         elif proposal is None:
             elastic = np.abs(system.slip(current.p_n, current.p_t, 0.0)[current.p_n < 0.0])
             step = step * 4.0 if step else 1e-3 * max(abs(xi), float(elastic.max()) if elastic.size else 0.0, 1e-12)
             proposal = xi + step if f > 0.0 else xi - step
-        if last_f is not None and abs(f) >= abs(last_f) and lo is not None and hi is not None:
-            proposal = 0.5 * (lo + hi)  # no progress: bisect
         if abs(proposal) > MAX_CREEP:
             raise StrategyFailed(
                 name,
@@ -431,6 +456,27 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
         current = current.copy()
         current.creep = float(proposal)
     raise StrategyFailed(name, "root", "no convergence in 200 creepage updates", current, abs(last_f or np.inf))
+
+
+def _full_slip_edge(system: ContactSystem, state: State, ev: Evaluation) -> float | None:
+    """For a state in full slip one way (no adhesion node, every contact node's traction of one sign
+    sigma), the creepage up to which it stays the solution [-], else None.
+
+    At full slip p_t = sigma mu |p_n| whatever the creepage, and the slip s = xi + (B p)(x)
+    moves with xi alone (the creep vector is 1 off the gauge row); it opposes the traction,
+    sigma s <= 0, until the creepage where the first node's slip reaches 0:
+    xi - sigma max(sigma s). Between the two the force is the same.
+    """
+    contact = state.p_n < 0.0
+    contact[system.gauge] = False
+    if not contact.any() or (ev.stick & contact).any():
+        return None
+    signs = np.sign(state.p_t[contact])
+    sigma = float(signs[0])
+    if sigma == 0.0 or not np.all(signs == sigma):
+        return None
+    slip = system.slip(state.p_n, state.p_t, state.creep)[contact]
+    return float(state.creep - sigma * np.max(sigma * slip))
 
 
 def first_success(*strategies: Strategy, name: str = "first success") -> Strategy:
