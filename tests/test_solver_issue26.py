@@ -187,7 +187,8 @@ def test_full_slip_edge_is_carters_full_slip_creepage_and_bounds_the_plateau():
     slip there moves like mu x / R*)."""
     r, system, state, ev = _creep_solution(-2.0 * 0.1 * 1.0 / 50.0)
     assert r.q_over_mu_p == pytest.approx(1.0, abs=1e-9) and not (r.state == 1).any()
-    edge = strategies._full_slip_edge(system, state, ev)
+    edge = strategies._full_slip_edge(system, state, ev, upward=True)  # Q = mu P > Q_target: xi rises
+    assert strategies._full_slip_edge(system, state, ev, upward=False) is None  # full slip down to -inf
     carter_edge = -r.mu * r.hertz_a / 50.0
     assert abs(edge / carter_edge - 1.0) <= 1.01 * r.node_spacing / r.hertz_a
     # just beyond the edge: the same full slip; just inside it: adhesion appears, Q falls below mu P
@@ -195,6 +196,9 @@ def test_full_slip_edge_is_carters_full_slip_creepage_and_bounds_the_plateau():
     assert np.allclose(beyond.p_t, r.p_t, rtol=0.0, atol=1e-9 * r.mu * r.hertz_p0)
     inside, _, _, _ = _creep_solution(edge * (1.0 - 1e-3))
     assert (inside.state == 1).any() and inside.q_over_mu_p < 1.0 - 1e-9
-    # not in full slip one way: no edge
-    _, system, state, ev = _creep_solution(0.5 * carter_edge)
-    assert strategies._full_slip_edge(system, state, ev) is None
+    # not in full slip: no edge; the onset of full slip estimated from its pressure (Hertz's, the
+    # tractions being decoupled) is the edge found above
+    partial, system, state, ev = _creep_solution(0.5 * carter_edge)
+    assert (partial.state == 1).any()
+    assert strategies._full_slip_edge(system, state, ev, upward=True) is None
+    assert strategies._full_slip_onset(system, state, r.mu, 1.0) == pytest.approx(edge, rel=1e-8)
