@@ -22,6 +22,7 @@ from rolling_cli import materials, pipeline
 from rolling_cli.case import load_case
 from rolling_cli.solver import formulation, reduced, strategies
 from rolling_cli.solver.budget import Budget
+from rolling_cli.solver.formulation import State
 
 SMALL_FRICTION = {
     "bodies.A": {
@@ -62,6 +63,36 @@ def test_small_friction_with_coupling_near_full_slip_converges_in_few_iterations
     assert r.q_over_mu_p == pytest.approx(-0.999, abs=10 * r.tolerance_applied)
     stick = r.state == 1
     assert 0 < stick.sum() < 0.1 * (r.state > 0).sum()  # near full slip: a small adhesion zone
+
+
+#: benchmarks/robustness.py part 3, seed 1, case 1: the hardest of the small-friction family there.
+SMALLEST_FRICTION = {
+    "bodies.A": {"kind": "rigid", "radius": 16974.289439766737},
+    "bodies.B": {
+        "kind": "elastic",
+        "radius": 4679.598664502184,
+        "young": 386.4988098083971,
+        "poisson": 0.29557671750065195,
+    },
+    "friction.mu": 0.00011082665413317497,
+    "normal.load": 114.6704620741686,
+    "tangential.q_over_mu_p": -0.996018308976147,
+    "rolling.direction": -1,
+    "discretization.influence": "bem",
+    "discretization.contact_elements": 132,
+}
+
+
+def test_smallest_friction_near_full_slip_within_the_default_budget():
+    """mu = 1.1e-4, beta_Dundurs = -0.29: only the creepage root solves it (the coupled Newton
+    stagnates); it took 110 iterations with the bisection near the full-slip edge, 76 with the edge
+    and the regula falsi (strategies._creep_root)."""
+    r = solve(case_dict(**SMALLEST_FRICTION))
+    assert r.converged and r.iterations_total <= 100  # the default solver.max_iterations
+    assert_contact_laws(r, r.tolerance_applied)
+    load = SMALLEST_FRICTION["normal.load"]
+    q = SMALLEST_FRICTION["tangential.q_over_mu_p"] * r.mu * load
+    assert_force_balance(r, load=load, q=q, tolerance=r.tolerance_applied)
 
 
 def test_merit_weighs_tangential_rows_against_at_least_a_tenth_of_the_normal_scale():
@@ -134,3 +165,40 @@ def test_creep_root_slope_includes_the_target_moving_with_the_load():
     assert d_q - float(d_target @ dp_n) == pytest.approx(slope, rel=1e-6)
     # the load moves with xi through the coupling: the target's share of the slope is not negligible
     assert abs(float(d_target @ dp_n)) > 1e-3 * abs(d_q)
+
+
+# --- the creepage root's full-slip edge -----------------------------------------------------------------
+
+
+def _creep_solution(xi):
+    data = case_dict(**{"tangential.creep": xi})  # Carter's similar cylinders, half-plane, 200 elements
+    case = load_case(data)
+    r = solve(data)
+    the_plan, system = pipeline.prepare(case)
+    problem = pipeline._task(case, the_plan, system).problem("tangential", force=False)
+    state = State(r.p_n.copy(), r.p_t.copy(), 0.0, r.creep)
+    return r, system, state, formulation.evaluate(problem, state, formulation.traction_scales(problem, state))
+
+
+def test_full_slip_edge_is_carters_full_slip_creepage_and_bounds_the_plateau():
+    """Beyond full slip the solution does not change with xi; _full_slip_edge gives the creepage
+    where it starts to: Carter's |xi| = mu a / R* (R* = 50), to a node spacing (the first node to
+    adhere is the last contact node, within one spacing of the leading edge x = a, and the full-slip
+    slip there moves like mu x / R*)."""
+    r, system, state, ev = _creep_solution(-2.0 * 0.1 * 1.0 / 50.0)
+    assert r.q_over_mu_p == pytest.approx(1.0, abs=1e-9) and not (r.state == 1).any()
+    edge = strategies._full_slip_edge(system, state, ev, upward=True)  # Q = mu P > Q_target: xi rises
+    assert strategies._full_slip_edge(system, state, ev, upward=False) is None  # full slip down to -inf
+    carter_edge = -r.mu * r.hertz_a / 50.0
+    assert abs(edge / carter_edge - 1.0) <= 1.01 * r.node_spacing / r.hertz_a
+    # just beyond the edge: the same full slip; just inside it: adhesion appears, Q falls below mu P
+    beyond, _, _, _ = _creep_solution(edge * (1.0 + 1e-6))
+    assert np.allclose(beyond.p_t, r.p_t, rtol=0.0, atol=1e-9 * r.mu * r.hertz_p0)
+    inside, _, _, _ = _creep_solution(edge * (1.0 - 1e-3))
+    assert (inside.state == 1).any() and inside.q_over_mu_p < 1.0 - 1e-9
+    # not in full slip: no edge; the onset of full slip estimated from its pressure (Hertz's, the
+    # tractions being decoupled) is the edge found above
+    partial, system, state, ev = _creep_solution(0.5 * carter_edge)
+    assert (partial.state == 1).any()
+    assert strategies._full_slip_edge(system, state, ev, upward=True) is None
+    assert strategies._full_slip_onset(system, state, r.mu, 1.0) == pytest.approx(edge, rel=1e-8)
