@@ -382,3 +382,19 @@ def test_a_branch_that_does_not_carry_the_force_is_reported():
     data = law_case(CARTER, law, **SMALL, **{"tangential.q_over_mu_p": 0.5, "solver.branch": "high-slip"})
     with pytest.raises(rolling_cli.errors.ConvergenceError, match="no steady solution with .* on the high-slip"):
         solve(data)
+
+
+@pytest.mark.parametrize(
+    "law",
+    [
+        {"law": "linear", "mu_static": 0.30, "mu_kinetic": 0.18, "slip_velocity_half": 100.0},
+        {"law": "rational", "mu_static": 0.30, "mu_kinetic": 0.18, "slip_velocity_half": 100.0},
+        {"law": "polach", "mu_static": 0.30, "polach_a": 0.6, "polach_b": 0.007},
+    ],
+    ids=lambda law: law["law"],
+)
+def test_every_law_solves_and_holds_the_contact_laws(law):
+    """The other laws on the decoupled case at xi = -0.004 (slip speeds 0.1-3.5 s_h: the linear law's
+    kink at 2 s_h lies inside the slip zone) and on the coupled one under force control."""
+    assert_contact_laws_with_law(solve(law_case(CARTER, law, **SMALL, **{"tangential.creep": -0.004})))
+    assert_contact_laws_with_law(solve(law_case(dissimilar(**SMALL), law, **{"tangential.q_over_mu_p": 0.6})))
