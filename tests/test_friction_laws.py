@@ -426,3 +426,13 @@ def test_creep_curve_records_branch_and_stability_per_point(tmp_path):
             assert np.sign(slope[i]) == np.sign(left)
         assert branch[i] == ("rising" if slope[i] < 0.0 else "falling")
     assert branch[0] == "falling" and branch[-1] == "falling"  # the curve's ends lie past the peaks
+
+
+def test_a_far_falling_law_converges_by_continuation_in_its_strength():
+    """mu_k = 0.4 mu_s near the creep-force curve's peak: direct Newton from the Coulomb start
+    stagnates (measured: it failed here before the law path existed); the continuation in the
+    law's strength from Coulomb friction converges, and the solution holds the contact laws."""
+    law = {**EXPONENTIAL, "mu_kinetic": 0.12}
+    result = solve(law_case(CARTER, law, **SMALL, **{"tangential.creep": -0.002}))
+    assert_contact_laws_with_law(result)
+    assert any(row.get("strategy") == "law path" for row in result.history)
