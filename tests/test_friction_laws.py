@@ -90,6 +90,7 @@ def test_polach_is_the_exponential_law():
         ({"friction.mu": 0.3}, "friction.mu"),  # mu is the constant law's key
         ({"friction.polach_a": 0.5}, "friction.polach_a"),  # not a key of the exponential law
         ({"solver.branch": "high-slip", "tangential.creep": -1e-3}, "solver.branch"),  # under creep control
+        ({"discretization.tolerance": 1e-3}, "discretization.tolerance"),  # the estimator is Coulomb's
     ],
 )
 def test_bad_friction_input_is_one_line_exit_2(tmp_path, change, key):
