@@ -94,8 +94,8 @@ def on_branch(case: Case, result: Result, solve: Callable[..., Result], prepare:
         )
     solved.attributes["other_branch_creep"] = found_creep
     solved.attributes["branch_note"] = (
-        f"two steady solutions for Q = {target:.6g}: xi = {float(recorded(solved.creep, 'creep')):.6g} on the "
-        f"{case.solver.branch} branch (solver.branch), xi = {found_creep:.6g} on the other"
+        f"two steady solutions for Q = {target:.6g}: xi = {float(recorded(solved.creep, 'creep')):.6g} "
+        f"({case.solver.branch}, chosen) and {found_creep:.6g}"
     )
     return solved
 

@@ -94,6 +94,9 @@ def summary(result: Result, output: str | None = None) -> str:
         creep += f", {attrs['branch']} branch (dQ/dxi = {_fmt(attrs.get('creep_slope'))} {line})"
     lines.append(creep)
     lines.extend(_sensitivity_lines(attrs, length, stress, line))
+
+    if attrs.get("branch_note"):
+        lines.append(f"  branches       {attrs['branch_note']}")
     overlap = attrs.get("overlap", math.nan)
     if not math.isnan(overlap):
         lines.append(f"  overlap        {_fmt(overlap)} {length}")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import h5py
 import numpy as np
 import pytest
 
@@ -89,6 +90,7 @@ def test_polach_is_the_exponential_law():
         ({"friction.mu": 0.3}, "friction.mu"),  # mu is the constant law's key
         ({"friction.polach_a": 0.5}, "friction.polach_a"),  # not a key of the exponential law
         ({"solver.branch": "high-slip", "tangential.creep": -1e-3}, "solver.branch"),  # under creep control
+        ({"discretization.tolerance": 1e-3}, "discretization.tolerance"),  # the estimator is Coulomb's
     ],
 )
 def test_bad_friction_input_is_one_line_exit_2(tmp_path, change, key):
@@ -382,3 +384,56 @@ def test_a_branch_that_does_not_carry_the_force_is_reported():
     data = law_case(CARTER, law, **SMALL, **{"tangential.q_over_mu_p": 0.5, "solver.branch": "high-slip"})
     with pytest.raises(rolling_cli.errors.ConvergenceError, match="no steady solution with .* on the high-slip"):
         solve(data)
+
+
+@pytest.mark.parametrize(
+    "law",
+    [
+        {"law": "linear", "mu_static": 0.30, "mu_kinetic": 0.18, "slip_velocity_half": 100.0},
+        {"law": "rational", "mu_static": 0.30, "mu_kinetic": 0.18, "slip_velocity_half": 100.0},
+        {"law": "polach", "mu_static": 0.30, "polach_a": 0.6, "polach_b": 0.007},
+    ],
+    ids=lambda law: law["law"],
+)
+def test_every_law_solves_and_holds_the_contact_laws(law):
+    """The other laws on the decoupled case at xi = -0.004 (slip speeds 0.1-3.5 s_h: the linear law's
+    kink at 2 s_h lies inside the slip zone) and on the coupled one under force control."""
+    assert_contact_laws_with_law(solve(law_case(CARTER, law, **SMALL, **{"tangential.creep": -0.004})))
+    assert_contact_laws_with_law(solve(law_case(dissimilar(**SMALL), law, **{"tangential.q_over_mu_p": 0.6})))
+
+
+def test_creep_curve_records_branch_and_stability_per_point(tmp_path):
+    """`rollc sweep --curve creep` on a falling law: each point's dQ/dxi has the sign of the curve's
+    own differences between its neighbours (a change of sign between them marks the peak, where
+    both signs are fair), and the points past the peak are on the falling branch."""
+    data = law_case(CARTER, EXPONENTIAL, **SMALL, **{"tangential.creep": -0.002})
+    path = write_case(tmp_path, data)
+    out = tmp_path / "curve.h5"
+    result = run_cli("sweep", path, "--curve", "creep", "--points", "15", "-o", out, "--workers", "1")
+    assert result.exit_code == 0, result.output
+    with h5py.File(out, "r") as handle:  # (rolling_cli.open_result: its xarray import dominates a short test)
+        creep, q = handle["creep"][:], handle["tangential_load"][:]
+        slope = handle["creep_slope"][:]
+        branch = np.array([b.decode() if isinstance(b, bytes) else b for b in handle["branch"][:]])
+        assert handle["converged"][:].all()
+    order = np.argsort(creep)
+    creep, q, slope, branch = creep[order], q[order], slope[order], branch[order]
+    for i in range(1, creep.size - 1):
+        if creep[i] == 0.0:  # free rolling: no tangential problem, no slope
+            continue
+        left = (q[i] - q[i - 1]) / (creep[i] - creep[i - 1])
+        right = (q[i + 1] - q[i]) / (creep[i + 1] - creep[i])
+        if np.sign(left) == np.sign(right):
+            assert np.sign(slope[i]) == np.sign(left)
+        assert branch[i] == ("rising" if slope[i] < 0.0 else "falling")
+    assert branch[0] == "falling" and branch[-1] == "falling"  # the curve's ends lie past the peaks
+
+
+def test_a_far_falling_law_converges_by_continuation_in_its_strength():
+    """mu_k = 0.4 mu_s near the creep-force curve's peak: direct Newton from the Coulomb start
+    stagnates (measured: it failed here before the law path existed); the continuation in the
+    law's strength from Coulomb friction converges, and the solution holds the contact laws."""
+    law = {**EXPONENTIAL, "mu_kinetic": 0.12}
+    result = solve(law_case(CARTER, law, **SMALL, **{"tangential.creep": -0.002}))
+    assert_contact_laws_with_law(result)
+    assert any(row.get("strategy") == "law path" for row in result.history)

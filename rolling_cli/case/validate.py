@@ -300,6 +300,14 @@ def _check_friction(case: schema.Case, file: str | None) -> None:
             "a branch is chosen only under force control with a velocity-dependent friction law",
             '"auto"',
         )
+    if law != "constant" and case.discretization.tolerance is not None:
+        raise _fail(
+            file,
+            "discretization.tolerance",
+            case.discretization.tolerance,
+            f'adaptive meshes estimate the error of Coulomb friction, not of law = "{law}"',
+            "remove it (a fixed mesh: discretization.contact_elements)",
+        )
     if law != "constant" and case.rolling.speed is None:
         raise CaseError(
             f'rolling.speed: missing key (friction.law = "{law}" needs the rolling speed |V|); '

@@ -158,7 +158,41 @@ class Polach:
         )
 
 
-FrictionLaw = Constant | Linear | Rational | Exponential | Polach
+@dataclass(frozen=True)
+class Blended:
+    """mu_s + ``strength`` (mu(s_a) - mu_s): the law ``law`` with its fall scaled by ``strength``
+    in [0, 1] (0: Coulomb with mu_static; 1: the law). The homotopy of the solver's law path."""
+
+    law: FrictionLaw
+    strength: float
+    velocity_dependent = True
+
+    @property
+    def name(self) -> str:
+        return self.law.name
+
+    @property
+    def mu_static(self) -> float:
+        return self.law.mu_static
+
+    @property
+    def mu_kinetic(self) -> float:
+        return self.law.mu_static + self.strength * (self.law.mu_kinetic - self.law.mu_static)
+
+    def mu(self, s_a) -> np.ndarray:
+        """mu(s_a) [-]."""
+        return self.law.mu_static + self.strength * (self.law.mu(s_a) - self.law.mu_static)
+
+    def dmu_ds(self, s_a) -> np.ndarray:
+        """d mu / d s_a [time/length]."""
+        return self.strength * self.law.dmu_ds(s_a)
+
+    def describe(self, time_unit: str = "s", length_unit: str = "mm") -> str:
+        """One line."""
+        return f"{self.law.describe(time_unit, length_unit)} at strength {self.strength:g}"
+
+
+FrictionLaw = Constant | Linear | Rational | Exponential | Polach | Blended
 
 #: Law names of ``friction.law`` and their classes.
 LAWS = {"constant": Constant, "linear": Linear, "rational": Rational, "exponential": Exponential, "polach": Polach}

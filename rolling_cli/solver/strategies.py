@@ -316,6 +316,59 @@ def coupling_path(task: Task, start: State, budget: Budget, cold: bool = False, 
     return points[-1][1]
 
 
+#: The strengths the law path walks through (each from the secant of the last two).
+LAW_STEPS = (0.25, 0.5, 0.75, 1.0)
+
+
+def law_path(task: Task, start: State, budget: Budget, cold: bool = False, globalisation=None) -> Solution:
+    """A velocity-dependent law by continuation in its strength lambda: mu_s + lambda (mu(s_a) - mu_s)
+    (:class:`~rolling_cli.model.friction.Blended`) from Coulomb friction with mu_static at lambda = 0
+    to the law at 1, each step from the boundary-secant prediction of the last two. For laws that
+    fall far (mu_k/mu_s = 0.4 on Carter's cylinders: direct Newton stagnates near the curve's peak,
+    its stick/slip boundary moving a node an iteration from the Coulomb start)."""
+    if task.friction is None:
+        return direct(task, start, budget, cold, globalisation)
+    from ..model.friction import Blended, SlipFriction
+
+    law, speed = task.friction.law, task.friction.speed
+    coulomb = dataclasses.replace(task, friction=None)
+    try:
+        first = direct(coulomb, start, budget, cold, globalisation, name="law path")
+    except StrategyFailed as err:
+        raise StrategyFailed("law path", "lambda = 0", err.reason, err.best, err.residual) from None
+
+    def solve_at(strength: float, guess: State) -> tuple[Solution, int]:
+        blended = dataclasses.replace(task, friction=SlipFriction(Blended(law, strength), speed))
+        before = budget.taken
+        solution = run_newton(
+            blended.problem(task.full_mode),
+            task.prepared(guess),
+            task.tolerance,
+            budget,
+            "law path",
+            f"{task.full_mode}, lambda = {strength:.4g}",
+            False,
+            globalisation,
+        )
+        return solution, budget.taken - before
+
+    points = [(0.0, first)]
+    try:
+        continuation.follow(
+            LAW_STEPS,
+            solve_at,
+            _predict(task.system.x, task.mu),
+            points,
+            failure=StrategyFailed,
+            control=continuation.StepControl(),
+            budget=budget,
+        )
+    except continuation.ContinuationFailed as err:
+        best = err.best.state if err.best is not None else None
+        raise StrategyFailed("law path", f"lambda = {err.parameter:.4g}", err.reason, best, err.residual) from None
+    return points[-1][1]
+
+
 def _predict(x: np.ndarray, mu: float):
     """The boundary-secant predictor over points [(s, Solution)] (a copy from one point)."""
 
@@ -621,6 +674,8 @@ def default(task: Task, settle: bool = False, restart: State | None = None, rest
         else:
             retry = _with(direct, WATCHDOG, "direct, closed-form start")
         chain.append(restarted(retry, restart))
+    if task.friction is not None:  # a velocity-dependent law: continuation in its strength next
+        chain.append(_with(law_path, WATCHDOG))
     chain.append(_with(direct, MONOTONE, "direct, monotone"))
     if task.formulation == "coupled":
         if task.controls.force is not None:

@@ -10,7 +10,11 @@ the iterate k:
     p_t,i = sigma_i g_i^k + (-sigma_i mu_i^k) (lambda_n,i - lambda_n,i^k) + h_i (s_t,i - s_t,i^k),
     h_i = sigma_i |lambda_n,i^k| d mu / d s_t (s_t,i^k),  d mu / d s_t = |V| mu'(s_a) sgn(s_t)
 
-(the d mu/d s_a term of the generalised Jacobian; on contact nodes the
+(the d mu/d s_a term of the generalised Jacobian). sgn(s_t) is taken as -sigma_i, its value
+at a solution (slip opposes the traction), so h_i = |lambda_n,i^k| |V| (-mu'(s_a)) >= 0 for a
+falling law: the same at the solution, and a slip node whose slip still has the wrong sign at
+an iterate (or is exactly 0, a node just released from adhesion) gets the law's slope, not
+its mirror image or none (measured: the same iteration counts either way). On contact nodes the
 linearised normal row makes lambda_n = p_n, so in the coupled mode
 sigma g^k + (-sigma mu^k)(lambda_n - lambda_n^k) = -sigma mu^k p_n). The slip
 tractions therefore stay unknowns: z = [p_n on contact | p_t on adhesion | p_t
@@ -64,7 +68,8 @@ class VelocitySystem:
 
 
 def slip_gain(problem: Problem, ev: Evaluation, slip_nodes: np.ndarray, sigma: np.ndarray) -> np.ndarray:
-    """h_i = sigma_i |lambda_n,i| d mu/d s_t on the slip nodes [stress]: d p_t / d s_t of a slipping node."""
+    """h_i = |lambda_n,i| |V| (-mu'(s_a,i)) on the slip nodes [stress]: d p_t / d s_t of a slipping node,
+    sigma_i |lambda_n,i| d mu/d s_t with sgn(s_t) = -sigma_i (module docstring)."""
     assert problem.friction is not None and ev.slip is not None and ev.capacity is not None
     law, speed = problem.friction.law, problem.friction.speed
     dmu_ds = law.dmu_ds(speed * np.abs(ev.slip[slip_nodes]))
