@@ -269,12 +269,12 @@ def export(result_file, output, fields, overwrite):
     _run(action)
 
 
-def _span(text: str) -> tuple[float, float]:
-    """LO:HI of ``--range``; CaseError naming the option otherwise."""
+def _span(text: str, option: str = "--range", what: str = "xi R*/(mu a)") -> tuple[float, float]:
+    """LO:HI of ``--range`` (or ``option``); CaseError naming the option otherwise."""
     try:
         lo, hi = (float(part) for part in text.split(":"))
     except ValueError:
-        raise CaseError(f"--range = {text!r}: allowed: LO:HI, two numbers (xi R*/(mu a))") from None
+        raise CaseError(f"{option} = {text!r}: allowed: LO:HI, two numbers ({what})") from None
     return lo, hi
 
 
@@ -288,32 +288,43 @@ def _span(text: str) -> tuple[float, float]:
 @click.option(
     "--range", "span", default="-1:1", show_default=True, help="LO:HI of the creepage normalised as xi R*/(mu a)."
 )
+@click.option("--mu", "friction", default=None, help="LO:HI: a second axis, the coefficient of friction.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing table file.")
 @click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
 @click.pass_context
-def table(ctx, case_file, output, tolerance, span, overwrite, no_cache):
+def table(ctx, case_file, output, tolerance, span, friction, overwrite, no_cache):
     """Tabulate Q/(mu P) against xi R*/(mu a) for CASE_FILE, sampled adaptively (rolling_cli.table.load reads it)."""
 
     def action():
         from . import outputs
         from . import table as table_file
         from .case import load_case
-        from .tabulate import build, check_request
+        from .tabulate import build, build_friction, check_request
 
         _imported()
         lo, hi = _span(span)
+        mu_range = _span(friction, "--mu", "mu") if friction is not None else None
         case = load_case(case_file)
         check_request(case, lo, hi, tolerance, case_file)
+        if mu_range is not None and not 0.0 < mu_range[0] < mu_range[1]:
+            raise CaseError(f"--mu = {friction}: allowed: LO:HI with 0 < LO < HI", file=case_file)
         out = output or Path(case_file).stem + "_table.h5"
         outputs.check_output(out, inputs=(case_file,), overwrite=overwrite, kind="table")
         with outputs.claim(out):
-            made, intervals = build(case, lo, hi, tolerance, use_cache=not no_cache)
-            with outputs.atomic_file(out, replace=overwrite) as tmp:
-                table_file.write(tmp, made, intervals)
+            if mu_range is None:
+                made, intervals = build(case, lo, hi, tolerance, use_cache=not no_cache)
+                shape = f"{made.nodes.size} nodes"
+                with outputs.atomic_file(out, replace=overwrite) as tmp:
+                    table_file.write(tmp, made, intervals)
+            else:
+                made, errors = build_friction(case, lo, hi, *mu_range, tolerance, use_cache=not no_cache)
+                shape = f"{len(made.rows)} rows of mu = {mu_range[0]:g} .. {mu_range[1]:g}, each"
+                with outputs.atomic_file(out, replace=overwrite) as tmp:
+                    table_file.write_friction(tmp, made, errors)
         if not ctx.obj["quiet"]:
             attrs = made.attributes
             click.echo(
-                f"table          {made.nodes.size} nodes over xi R*/(mu a) = {lo:g} .. {hi:g}, "
+                f"table          {shape} over xi R*/(mu a) = {lo:g} .. {hi:g}, "
                 f"error estimate {made.error_bound:.3g} (tolerance {tolerance:g}), {attrs['cases']} solves, "
                 f"{attrs['time']:.2f} s\n  written        {out}"
             )

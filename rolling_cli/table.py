@@ -23,11 +23,18 @@ error estimate of each interval); root attributes ``format`` =
 largest estimate), ``domain`` (lo, hi), ``creep_scale`` mu a/R*, ``mu``,
 ``half_width`` a, ``radius`` R*, ``load`` P, ``cases`` (solves), the case as
 TOML (``case_toml``) and provenance.
+
+With a second axis (``rollc table --mu LO:HI``) :func:`load` returns a
+:class:`FrictionTable`, called as ``table(u, mu)``: rows at the friction nodes
+``friction_nodes``, stored end to end (``row_start`` their offsets) with the
+slope in mu ``dq_over_mu_p_dmu`` besides; ``friction_interval_error`` the
+estimate of each interval in mu.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -92,13 +99,87 @@ def hermite(nodes: np.ndarray, values: np.ndarray, slopes: np.ndarray, u: np.nda
     )
 
 
-def load(path: str) -> Table:
-    """The table of a file written by ``rollc table`` (ValueError naming the file when it is not one)."""
+class TableRow(NamedTuple):
+    """One row of a two-axis table: friction ``mu``, the nodes u, Q/(mu P) there, and its slopes in u
+    and in mu (at fixed u)."""
+
+    mu: float
+    nodes: np.ndarray
+    values: np.ndarray
+    slopes: np.ndarray
+    mu_slopes: np.ndarray
+
+
+def between(low: TableRow, high: TableRow, u: np.ndarray, mu: np.ndarray) -> np.ndarray:
+    """Q/(mu P) at (u, mu) between two rows: each row's cubic Hermite in u gives the values at u,
+    its slopes in mu interpolated linearly in u, then a cubic Hermite in mu (ValueError for a u
+    outside either row)."""
+    values = [hermite(row.nodes, row.values, row.slopes, u) for row in (low, high)]
+    slopes = [np.interp(u, row.nodes, row.mu_slopes) for row in (low, high)]
+    h = high.mu - low.mu
+    t = (mu - low.mu) / h
+    t2 = t * t
+    t3 = t2 * t
+    return (
+        (2 * t3 - 3 * t2 + 1) * values[0]
+        + (t3 - 2 * t2 + t) * h * slopes[0]
+        + (-2 * t3 + 3 * t2) * values[1]
+        + (t3 - t2) * h * slopes[1]
+    )
+
+
+@dataclass(frozen=True)
+class FrictionTable:
+    """A two-axis creep-force table: rows over u = xi R*/(mu a) at friction nodes ``rows[k].mu``.
+
+    ``table(u, mu)`` gives Q/(mu P) (any shapes that broadcast); ValueError outside the domain
+    ((u_lo, u_hi), (mu_lo, mu_hi)) or for NaN. ``friction_error`` is the error estimate of each
+    interval in mu (the mid-row's largest miss), ``error_bound`` the largest estimate in u or mu.
+    """
+
+    rows: tuple[TableRow, ...]
+    tolerance: float
+    error_bound: float
+    friction_error: np.ndarray
+    attributes: dict = field(default_factory=dict)
+
+    @property
+    def friction(self) -> np.ndarray:
+        """The friction coefficients of the rows (increasing)."""
+        return np.array([row.mu for row in self.rows])
+
+    @property
+    def domain(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """((u_lo, u_hi), (mu_lo, mu_hi))."""
+        first = self.rows[0].nodes
+        return (float(first[0]), float(first[-1])), (self.rows[0].mu, self.rows[-1].mu)
+
+    def __call__(self, creep_normalised, mu) -> np.ndarray:
+        """Q/(mu P) [-] at (u, mu); ValueError outside the domain or for NaN."""
+        u, m = np.broadcast_arrays(np.asarray(creep_normalised, dtype=float), np.asarray(mu, dtype=float))
+        friction = self.friction
+        inside = (m >= friction[0]) & (m <= friction[-1])
+        if not np.all(inside):
+            bad = float(m[~inside].ravel()[0])
+            raise ValueError(f"mu = {bad:g} outside the table's domain [{friction[0]:g}, {friction[-1]:g}]")
+        k = np.clip(np.searchsorted(friction, m, side="right") - 1, 0, friction.size - 2)
+        out = np.empty(u.shape)
+        for row in np.unique(k):  # a loop over the rows (a few), each a vectorised evaluation
+            pick = k == row
+            out[pick] = between(self.rows[row], self.rows[row + 1], u[pick], m[pick])
+        return out
+
+
+def load(path: str) -> Table | FrictionTable:
+    """The table of a file written by ``rollc table``: a :class:`Table`, or with ``--mu`` a
+    :class:`FrictionTable` (ValueError naming the file when it is not one)."""
     import h5py
 
     with h5py.File(path, "r") as handle:
         if handle.attrs.get("format") != FORMAT:
             raise ValueError(f"{path}: not a rolling_cli table (format {handle.attrs.get('format')!r})")
+        if "friction_nodes" in handle:
+            return _load_friction(handle)
         nodes = np.asarray(handle["creep_normalised"][()], dtype=float)
         values = np.asarray(handle["q_over_mu_p"][()], dtype=float)
         slopes = np.asarray(handle["dq_over_mu_p_du"][()], dtype=float)
@@ -141,4 +222,60 @@ def write(path: str, table: Table, interval_error: np.ndarray) -> None:
         handle.attrs["error_bound"] = table.error_bound
         handle.attrs["domain"] = np.array(table.domain)
         for key, value in table.attributes.items():
+            handle.attrs[key] = value
+
+
+def _load_friction(handle) -> FrictionTable:
+    """The two-axis table of an open file (rows stored end to end, ``row_start`` their offsets)."""
+    start = np.asarray(handle["row_start"][()], dtype=int)
+    friction = np.asarray(handle["friction_nodes"][()], dtype=float)
+    columns = [np.asarray(handle[name][()], dtype=float) for name in ROW_COLUMNS]
+    rows = tuple(
+        TableRow(float(friction[k]), *(column[start[k] : start[k + 1]] for column in columns))
+        for k in range(friction.size)
+    )
+    attributes = {key: _plain(value) for key, value in handle.attrs.items()}
+    error = np.asarray(handle["friction_interval_error"][()], dtype=float)
+    return FrictionTable(rows, float(attributes["tolerance"]), float(attributes["error_bound"]), error, attributes)
+
+
+#: The per-node columns of a two-axis table's rows, in TableRow's order after mu.
+ROW_COLUMNS = ("creep_normalised", "q_over_mu_p", "dq_over_mu_p_du", "dq_over_mu_p_dmu")
+
+
+def write_friction(path: str, made: FrictionTable, row_errors: list[np.ndarray]) -> None:
+    """Write a two-axis table (rows end to end; ``row_errors`` each row's interval estimates) to HDF5."""
+    import h5py
+
+    long_names = {
+        **DATASETS,
+        "dq_over_mu_p_dmu": "d(Q/(mu P))/dmu at fixed xi R*/(mu a), from dQ/dmu and dQ/dxi",
+        "friction_nodes": "coefficient of friction mu of each row",
+        "row_start": "offset of each row's first node (and the end), for the per-node columns",
+        "interval_error": "interpolation error estimate of each interval in u, row by row, in Q/(mu P)",
+        "friction_interval_error": "interpolation error estimate of each interval in mu, in Q/(mu P)",
+    }
+    sizes = np.array([row.nodes.size for row in made.rows])
+    arrays = {
+        name: np.concatenate([getattr(row, field_name) for row in made.rows])
+        for name, field_name in zip(ROW_COLUMNS, ("nodes", "values", "slopes", "mu_slopes"), strict=True)
+    }
+    arrays["friction_nodes"] = made.friction
+    arrays["row_start"] = np.concatenate([[0], np.cumsum(sizes)])
+    arrays["interval_error"] = np.concatenate(row_errors)
+    arrays["friction_interval_error"] = made.friction_error
+    with h5py.File(path, "w") as handle:
+        for name, values in arrays.items():
+            dataset = handle.create_dataset(name, data=values)
+            dataset.attrs["long_name"] = long_names[name]
+            dataset.attrs["units"] = "1"
+        handle.attrs["format"] = FORMAT
+        handle.attrs["format_version"] = FORMAT_VERSION
+        handle.attrs["tolerance"] = made.tolerance
+        handle.attrs["error_bound"] = made.error_bound
+        (u_lo, u_hi), (mu_lo, mu_hi) = made.domain
+        handle.attrs["domain"] = np.array([u_lo, u_hi])
+        handle.attrs["friction_domain"] = np.array([mu_lo, mu_hi])
+        handle.attrs["axes"] = "creep_normalised, mu"
+        for key, value in made.attributes.items():
             handle.attrs[key] = value

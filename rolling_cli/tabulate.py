@@ -21,6 +21,17 @@ parts and like h^2 across a jump of the second derivative, as at the onset of
 full slip). The loop stops at ``max_cases`` solves (the table is then written
 with the estimate it reached, and says so).
 
+A second axis, the coefficient of friction (``--mu LO:HI``,
+:func:`build_friction`): rows of the sampling above (each to half the
+tolerance) at friction nodes, with the slope of Q/(mu P) in mu at fixed u from
+the sensitivities, (dQ/dmu + (xi/mu) dQ/dxi)/(mu P) - Q/(mu^2 P) (xi = u mu a/R*
+moves with mu); between two rows a cubic Hermite in mu (the rows' slopes in mu
+interpolated linearly in u). Each interval in mu is tested by its whole
+mid-row, compared at every node of the three rows and between them, and split
+while it misses by more than the other half of the tolerance. Carter's law
+depends on u alone (the decoupled problem is homogeneous in mu and xi): its
+slopes in mu vanish and the first rows pass.
+
 The P held is the case's load: a table needs ``normal.load`` (under overlap
 control Q/(mu P) would mix the creepage with the load it changes).
 """
@@ -40,7 +51,7 @@ from .case import Case, case_to_toml
 from .errors import CaseError
 from .result import recorded, utc_timestamp
 from .solver.formulation import State
-from .table import Table, hermite
+from .table import FrictionTable, Table, TableRow, between, hermite
 
 log = logging.getLogger(__name__)
 
@@ -191,3 +202,75 @@ def build(
     attributes = _attributes(case, the_plan, [row], t0)
     table = Table(row.nodes, row.values, row.slopes, float(tolerance), float(row.intervals.max()), attributes)
     return table, row.intervals
+
+
+#: Rows of the first pass of a two-axis table (equally spaced in mu).
+INITIAL_ROWS = 3
+
+
+def build_friction(
+    case: Case,
+    lo: float,
+    hi: float,
+    mu_low: float,
+    mu_high: float,
+    tolerance: float = 1e-3,
+    *,
+    initial: int = INITIAL,
+    initial_rows: int = INITIAL_ROWS,
+    max_cases: int = 20 * MAX_CASES,
+    use_cache: bool = True,
+) -> tuple[FrictionTable, list[np.ndarray]]:
+    """The two-axis table of ``case`` over u in [lo, hi] and mu in [mu_low, mu_high] (module docstring):
+    rows of the one-axis sampling (to half the tolerance) at friction nodes, refined in mu by whole
+    mid-rows until the interpolant between two rows predicts the mid-row (its Hermite in u, at every
+    node of the three rows and between them) within the other half. The estimate of the whole is the
+    sum of the largest in u and in mu. Returns the table and each row's interval estimates."""
+    if not 0.0 < mu_low < mu_high:
+        raise CaseError(f"--mu = {mu_low!r}:{mu_high!r}: allowed: LO:HI with 0 < LO < HI", file=case.source)
+    t0 = time.perf_counter()
+    the_plan, system = _prepared(case, lo, hi, tolerance, mu_high, use_cache)
+    rows: dict[float, Row] = {}
+
+    def add(mu: float) -> Row:
+        left = max_cases - sum(row.cases for row in rows.values())
+        rows[mu] = _row(case, system, the_plan, mu, lo, hi, 0.5 * tolerance, initial, max(left, 2), use_cache)
+        return rows[mu]
+
+    for mu in np.linspace(mu_low, mu_high, max(initial_rows, 2)):
+        add(float(mu))
+    friction = sorted(rows)
+    pending = list(zip(friction[:-1], friction[1:], strict=True))
+    accepted: dict[tuple[float, float], float] = {}
+    while pending:
+        a, b = pending.pop(0)
+        if sum(row.cases for row in rows.values()) >= max_cases:
+            accepted[(a, b)] = np.inf
+            continue
+        middle = _plain(add(0.5 * (a + b)))
+        low, high = _plain(rows[a]), _plain(rows[b])
+        u = _probes(low, high, middle)
+        predicted = between(low, high, u, np.full(u.size, middle.mu))
+        error = float(np.max(np.abs(hermite(middle.nodes, middle.values, middle.slopes, u) - predicted)))
+        if error > 0.5 * tolerance:
+            pending += [(a, middle.mu), (middle.mu, b)]
+        else:
+            accepted[(a, middle.mu)] = accepted[(middle.mu, b)] = error
+    ordered = [rows[mu] for mu in sorted(rows)]
+    in_mu = [accepted[(a.mu, b.mu)] for a, b in zip(ordered[:-1], ordered[1:], strict=True)]
+    bound = float(max(in_mu) + max(float(row.intervals.max()) for row in ordered))
+    attributes = _attributes(case, the_plan, ordered, t0)
+    attributes["met"] = bool(attributes["met"] and bound <= tolerance)
+    made = FrictionTable(tuple(_plain(row) for row in ordered), float(tolerance), bound, np.array(in_mu), attributes)
+    return made, [row.intervals for row in ordered]
+
+
+def _probes(*rows: TableRow) -> np.ndarray:
+    """Where a mid-row is compared with the rows around it: every node of the three and the midpoints
+    between neighbouring ones (the interpolant in mu is tested inside the cells in u too)."""
+    nodes = np.unique(np.concatenate([row.nodes for row in rows]))
+    return np.sort(np.concatenate([nodes, 0.5 * (nodes[1:] + nodes[:-1])]))
+
+
+def _plain(row: Row) -> TableRow:
+    return TableRow(row.mu, row.nodes, row.values, row.slopes, row.mu_slopes)

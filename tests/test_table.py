@@ -99,6 +99,9 @@ def test_load_imports_no_solver(carter_table, tmp_path):
         (["--range", "1:-1"], "allowed: LO:HI with LO < HI"),
         (["--range", "a:b"], "allowed: LO:HI, two numbers"),
         (["--range", "-1000:1"], "allowed: |u| <="),
+        (["--mu", "0:0.3"], "--mu = 0:0.3: allowed: LO:HI with 0 < LO < HI"),
+        (["--mu", "0.3:0.1"], "allowed: LO:HI with 0 < LO < HI"),
+        (["--mu", "x"], "--mu = 'x': allowed: LO:HI, two numbers"),
     ],
 )
 def test_bad_requests(tmp_path, options, message):
@@ -145,3 +148,38 @@ def test_readme_example(carter_table, tmp_path):
     assert done.returncode == 0, done.stderr
     assert "creep force -10.000 N/mm (T/r = 10.000 N/mm)" in done.stdout
     assert len(code.strip().splitlines()) <= 30
+
+
+def test_friction_axis_on_carter(tmp_path):
+    """A second axis, mu: Carter's Q/(mu P) is a function of u = xi R*/(mu a) alone (the decoupled
+    discrete problem is homogeneous in (mu, xi)), so the slopes in mu vanish (to rounding, 1e-9 of
+    the slopes in u) and every row is the same curve; the table reproduces direct solves at random
+    (u, mu) within its tolerance; written and loaded it gives the same values; mu outside raises."""
+    from rolling_cli.tabulate import build_friction
+
+    case = load_case(CARTER)
+    made, errors = build_friction(case, -1.0, 1.0, 0.05, 0.3, 1e-3)
+    assert made.error_bound <= 1e-3 and made.attributes["met"]
+    for row in made.rows:
+        assert np.abs(row.mu_slopes).max() <= 1e-9 * np.abs(row.slopes).max()
+        assert np.allclose(row.values, made.rows[0].values, rtol=0, atol=1e-9)
+    the_plan, system = pipeline.prepare(case)
+    rng = np.random.default_rng(7)
+    for u, mu in zip(rng.uniform(-1.0, 1.0, 5), rng.uniform(0.05, 0.3, 5), strict=True):
+        creep = float(u * mu * the_plan.half_width / the_plan.radius)
+        point = dataclasses.replace(
+            case,
+            friction=dataclasses.replace(case.friction, mu=float(mu)),
+            tangential=type(case.tangential)(creep=creep),
+        )
+        assert abs(float(made(u, mu)) - pipeline.solve(point, system=system).q_over_mu_p) <= 1e-3
+    path = tmp_path / "t2.h5"
+    table.write_friction(str(path), made, errors)
+    loaded = table.load(str(path))
+    u, mu = rng.uniform(-1.0, 1.0, 200), rng.uniform(0.05, 0.3, 200)
+    assert np.array_equal(loaded(u, mu), made(u, mu))
+    assert loaded.domain == ((-1.0, 1.0), (0.05, 0.3))
+    with pytest.raises(ValueError, match="mu = 0.4 outside"):
+        loaded(0.0, 0.4)
+    with pytest.raises(ValueError, match="outside the table's domain"):
+        loaded(1.5, 0.1)
