@@ -14,7 +14,10 @@ method. Data flows one way, through plain arrays:
 3. **influence** (:mod:`rolling_cli.influence`): the condensed compliance
    blocks S_nn, S_nt, S_tn, S_tt on the contact nodes, from the closed-form
    half-plane (:mod:`~rolling_cli.influence.halfplane`) or the BEM
-   (:mod:`~rolling_cli.influence.bem`).
+   (:mod:`~rolling_cli.influence.bem`); viscoelastic bodies
+   (:mod:`rolling_cli.model.viscoelastic`) in steady rolling by the history
+   kernels of :mod:`~rolling_cli.influence.viscoelastic`, their rolling
+   resistance by :mod:`rolling_cli.model.resistance`.
 4. **contact system** (:mod:`rolling_cli.system`): gap and slip as linear
    functions of the tractions, with the upwind slip operator
    (:mod:`rolling_cli.slip`).

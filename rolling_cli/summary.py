@@ -103,6 +103,7 @@ def summary(result: Result, output: str | None = None) -> str:
     lines.append(
         f"  Hertz          a = {_fmt(attrs['hertz_a'])} {length}, p0 = {_fmt(attrs['hertz_p0'])} {stress}, "
         f"beta (Dundurs) = {_fmt(attrs['beta_dundurs'], 4)}"
+        + (" (relaxed moduli)" if "rolling_resistance_moment" in attrs else "")
     )
     lines.append(
         f"  contact        half-width {_fmt(attrs.get('contact_half_width'))} {length}, "
