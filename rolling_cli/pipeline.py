@@ -48,6 +48,7 @@ from .case.given import given
 from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
 from .influence.build import clear_memo, pair_compliance
+from .model.finite import shaft_quantities
 from .references import carter, hertz, thin_layer
 from .resources import check_resources
 from .result import Result, node_states, utc_timestamp
@@ -1028,6 +1029,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "frictional_power_total": power.total(w, dissipation),
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
+    attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
     reference = {}
     similar = (
         effects_mod.cross_compliance(case) == 0.0

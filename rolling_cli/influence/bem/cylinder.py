@@ -23,8 +23,15 @@ arc: the tangent tau = (cos theta, -sin theta) (along increasing s) and the
 outward normal nu = (sin theta, cos theta). Per the
 :class:`~rolling_cli.influence.Compliance` convention p_n = t . nu
 (negative in compression), p_t = t . tau, w = -u . nu (into the body),
-u_t = u . tau. The bore being fixed, the normal displacement is definite: the
-approach of the contact surface towards the shaft.
+u_t = u . tau. The displacements use the node's polar angle theta (a smooth
+frame: the hoop strain du_t/ds - w/R is formed from them); the tractions the
+angle of the chord that carries the node (a pressure normal to the straight
+element). With the polar angle for both, the traction's tangential component
+on each chord, +-p h/(3R), left a saw-tooth in du_t/ds at the element
+junctions of 9 % of the strain at a/R = 0.3 and 100 elements, which the
+slip rows see (creepage converging like h); with the chord's it is 1.6 %.
+The bore being fixed, the normal displacement is definite: the approach of
+the contact surface towards the shaft.
 """
 
 from __future__ import annotations
@@ -41,7 +48,7 @@ from .system import mixed_systems
 __all__ = ["annulus_mesh", "annulus_size", "contact_angles", "condensed", "xy_compliance", "rotate"]
 
 #: Version of the meshing rules below, part of the cache key of a finite body (bump it when they change).
-MESH_RULES = 2
+MESH_RULES = 3
 
 #: Default largest element, as a fraction of the circumference (64 elements round a circle at least).
 ARC_FRACTION = 1.0 / 64.0
@@ -164,16 +171,32 @@ def xy_compliance(
     return out
 
 
-def rotate(xy: np.ndarray, theta: np.ndarray) -> dict[str, np.ndarray]:
+def rotate(xy: np.ndarray, theta: np.ndarray, theta_loads: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """The arc-frame blocks S_nn, S_nt, S_tn, S_tt (n_c, n_c) [length/stress] of an xy compliance
-    (n_c, 2, n_c, 2) with contact nodes at the angles ``theta`` (module docstring)."""
-    tau = np.column_stack([np.cos(theta), -np.sin(theta)])
-    nu = np.column_stack([np.sin(theta), np.cos(theta)])
+    (n_c, 2, n_c, 2): displacements in the directions at the angles ``theta`` (module docstring),
+    tractions in those at ``theta_loads`` (default the same)."""
+
+    def frame(angles):
+        return np.column_stack([np.sin(angles), np.cos(angles)]), np.column_stack([np.cos(angles), -np.sin(angles)])
+
+    nu, tau = frame(theta)
+    nu_load, tau_load = (nu, tau) if theta_loads is None else frame(theta_loads)
 
     def block(left: np.ndarray, right: np.ndarray) -> np.ndarray:
         return np.ascontiguousarray(np.einsum("ik,ikjl,jl->ij", left, xy, right, optimize=True))
 
-    return {"S_tt": block(tau, tau), "S_tn": block(tau, nu), "S_nt": -block(nu, tau), "S_nn": -block(nu, nu)}
+    return {
+        "S_tt": block(tau, tau_load),
+        "S_tn": block(tau, nu_load),
+        "S_nt": -block(nu, tau_load),
+        "S_nn": -block(nu, nu_load),
+    }
+
+
+def load_angles(grid: ContactGrid, radius: float) -> np.ndarray:
+    """The angle of each contact node's element chord (its normal's direction) [rad]: the direction of
+    a normal traction on the straight element that carries it."""
+    return np.repeat(grid.element_centres / radius, grid.nodes_per_element)
 
 
 def condensed(
@@ -188,5 +211,7 @@ def condensed(
     """Condensed compliance of the bonded annulus on the contact grid, in the arc's directions
     [length/stress] (module docstring); lengths [length], ``young`` E [stress]."""
     mesh = annulus_mesh(grid, radius, inner_radius, largest=largest)
-    blocks = rotate(xy_compliance(mesh, grid, young, poisson, mirror), contact_angles(mesh, radius))
+    blocks = rotate(
+        xy_compliance(mesh, grid, young, poisson, mirror), contact_angles(mesh, radius), load_angles(grid, radius)
+    )
     return Compliance(x=grid.x, weights=grid.weights, definite_normal=True, **blocks)
