@@ -145,15 +145,12 @@ def finite_pair(
         raise ValueError("no finite cylinder in the pair")
     g0, normal = contact_frame(ref.x, radius, other)
     nu, tau = arc_frame(ref.x, radius)
-    # the compliances' columns are tractions in the frame of each node's element chord (its mid node)
-    chord = np.repeat(ref.x[1::3], 3) if ref.x.size % 3 == 0 else ref.x
-    nu_load, tau_load = arc_frame(chord, radius)
     tangent = np.stack([-normal[:, 1], normal[:, 0]], axis=-1)
     # the gap along N, scaled so that the approach enters with -1: c w + s u_t
     c = np.einsum("id,id->i", nu, normal) / -normal[:, 1]
     s = np.einsum("id,id->i", tau, normal) / normal[:, 1]
-    body_a = None if body_a is None else _in_contact_frame(body_a, nu_load, tau_load, normal, tangent)
-    body_b = None if body_b is None else _in_contact_frame(body_b, nu_load, tau_load, normal, tangent)
+    body_a = None if body_a is None else _in_contact_frame(body_a, nu, tau, normal, tangent)
+    body_b = None if body_b is None else _in_contact_frame(body_b, nu, tau, normal, tangent)
 
     def get(body, name):
         return None if body is None else getattr(body, name)
