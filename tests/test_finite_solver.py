@@ -190,8 +190,9 @@ def test_flat_layer_limit(poisson, load, elements, b_over_a):
     flat layer (kind = "layered", the half-space shape), at b/a ~ 0.1 and ~ 1, nu = 0.3 and 0.5:
     creepage, peak pressure and contact half-width within 0.5 % (the issue's bounds). What differs is
     the curvature, O(a/R) <= 1e-3 (measured: creepage 0.23 % and 0.34 % at b/a = 0.10 and 0.083,
-    0.02 % and 0.0002 % at b/a = 1.1 and 1.3; peak pressure and width at most 0.17 %). Before the bore was meshed as finely
-    as a flat layer's bottom under the zone (at most b), thin covers were off by 1 % here."""
+    0.02 % and 0.0002 % at b/a = 1.1 and 1.3; peak pressure and width at most 0.17 %). Before the
+    bore was meshed as finely as a flat layer's bottom under the zone (at most b), thin covers were
+    off by 1 % here."""
     cover = {"kind": "layered", "radius": 1e4, "young": 1.0, "poisson": poisson, "layer_thickness": 1.0}
     flat = solve(_case(cover, RIGID_FLAT, load, elements))
     finite = solve(_case({**cover, "shape": "cylinder"}, RIGID_FLAT, load, elements))

@@ -26,9 +26,9 @@ def test_effects_one_line_each_and_no_wide_lines():
     result = solve(dissimilar(**{"discretization.contact_elements": 40}))
     lines = summary(result, output="some/where.h5").splitlines()
     first = next(i for i, line in enumerate(lines) if line.startswith("  effects"))
-    effect_lines = [lines[first]] + [line for line in lines[first + 1 :] if line.startswith(" " * 17) and ": " in line][
-        :4
-    ]
+    effect_lines = [lines[first]] + [
+        line for line in lines[first + 1 :] if line.startswith(" " * 17) and ": " in line
+    ][:4]
     names = [line.strip().removeprefix("effects").strip().split(":")[0] for line in effect_lines]
     assert names[:4] == ["coupling", "tangential", "normal", "influence"]
     assert max(len(line) for line in lines) <= WIDTH
