@@ -42,6 +42,8 @@ GAUSS_NEAR = 12
 GRADING = 0.5
 #: A node closer to an element's line than this fraction of the element's length lies on it.
 ON_LINE = 1e-9
+#: Smallest sub-interval (local units) of the graded rule around a curved element's own node.
+OWN_FLOOR = 1e-9
 #: Quadrature points per vectorised chunk of the regular and nearly singular rules (bounds memory).
 _CHUNK = 50_000
 #: Doubles of one element block's H and G integrals together (bounds memory).
@@ -279,7 +281,10 @@ def near_integrals(mesh, geo, pairs, t, dist, shear, poisson) -> tuple[np.ndarra
     # distance in local units; at least the rounding of the node's position in local units (a curved
     # element's own node, at distance 0, is where the isoparametric map puts it only to that rounding)
     scale = np.abs(mesh.nodes[pairs[:, 0]]).max(axis=1)
-    d_xi = np.maximum(2.0 * dist / length, np.maximum(1e-12, 1e3 * np.finfo(float).eps * 2.0 * scale / length))
+    # (for a node on the element, 1e-9: the log part of the left-out [c - d, c + d] is 2 d (1 - ln(J d)) < 1e-7
+    # of the element's integral)
+    floor = np.where(dist == 0.0, OWN_FLOOR, 1e-12)
+    d_xi = np.maximum(2.0 * dist / length, np.maximum(floor, 1e3 * np.finfo(float).eps * 2.0 * scale / length))
     levels = int(np.ceil(np.log(max(2.0 / d_xi.min(), 1.0)) / np.log(1.0 / GRADING))) + 1
     # sub-interval edges on each side of the centre: centre +- d_xi / GRADING^k, clipped
     k = np.arange(levels + 1)
