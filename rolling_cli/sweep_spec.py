@@ -316,6 +316,19 @@ def _size(n: float) -> str:
     return f"{n:.3g} PB"
 
 
+def _resolved(recorded: dict) -> dict:
+    """A recorded base case with the keys added since it was written at their defaults (a file of an
+    older rollc resumes when nothing it recorded changed); as recorded when it no longer validates."""
+    import tomllib
+
+    from .case import case_to_toml, load_case
+
+    try:
+        return tomllib.loads(case_to_toml(load_case(recorded)))
+    except Exception:  # noqa: BLE001 - any failure: compare what the file says
+        return recorded
+
+
 def difference(attrs: dict, base_toml: str, spec: SweepSpec, warm: bool) -> str | None:
     """The first way a file's recorded sweep differs from this one (None: the same sweep).
 
@@ -329,7 +342,7 @@ def difference(attrs: dict, base_toml: str, spec: SweepSpec, warm: bool) -> str 
     version = attrs.get("format_version", 1)
     if version != FORMAT_VERSION:
         return f"the file has format version {version}, this rollc writes {FORMAT_VERSION}"
-    recorded = tomllib.loads(attrs.get("case", ""))
+    recorded = _resolved(tomllib.loads(attrs.get("case", "")))
     now = tomllib.loads(base_toml)
     for key, (a, b) in _first_difference(recorded, now).items():
         return f"the base case differs at {key}: file {a!r}, now {b!r}"
