@@ -48,6 +48,7 @@ from .case.given import given
 from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
 from .grid import ContactGrid
 from .influence.build import clear_memo, pair_compliance
+from .model.finite import shaft_quantities
 from .references import carter, hertz, thin_layer
 from .resources import check_resources
 from .result import Result, node_states, utc_timestamp
@@ -1076,6 +1077,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
     attrs.update(_sensitivities(case, system, state, converged, half_width))
+    attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
     reference = {}
     visco = a.kind == "viscoelastic" or b.kind == "viscoelastic"
     if visco:  # rolling resistance, pressure shift, hysteresis (nothing for an elastic case)

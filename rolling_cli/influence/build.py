@@ -79,7 +79,12 @@ def bem_inputs(case, the_plan, body) -> dict:
     disc = case.discretization
     grid = the_plan.grid
     if body.finite:  # the whole annulus: outer radius and the rigid shaft's or core's radius
-        geometry = {"shape": "cylinder", "radius": float(body.radius), "inner_radius": body.core_radius}
+        geometry = {
+            "shape": "cylinder",
+            "radius": float(body.radius),
+            "inner_radius": body.core_radius,
+            "mesh_rules": cylinder_mesh_rules(),
+        }
     elif body.kind == "layered":
         thickness = float(body.layer_thickness)
         geometry = {"half_width": grid.half_width + disc.layer_length * thickness, "depth": thickness}
@@ -99,6 +104,13 @@ def bem_inputs(case, the_plan, body) -> dict:
     if not grid.uniform:  # a graded grid (adaptive levels): keyed on its edges; uniform keys unchanged
         inputs["element_edges"] = tuple(float(e) for e in grid.edges)
     return inputs
+
+
+def cylinder_mesh_rules() -> int:
+    """The version of the finite cylinder's meshing rules (part of its cache key)."""
+    from .bem.cylinder import MESH_RULES
+
+    return MESH_RULES
 
 
 def contact_grid(inputs: dict) -> ContactGrid:

@@ -49,27 +49,37 @@ import numpy as np
 
 from ..influence import Compliance
 
-__all__ = ["gap_factors", "finite_pair"]
+__all__ = ["contact_frame", "arc_frame", "finite_pair", "shaft_quantities"]
 
 
-def gap_factors(s: np.ndarray, radius: float, other_radius: float | None) -> tuple[np.ndarray, ...]:
-    """(g0 [length], c, s) of the module docstring at arc lengths ``s`` [length] on a finite
-    cylinder of ``radius`` R; ``other_radius``: inf for a rigid flat, R_B for a rigid convex circle,
-    ``None`` for a finite cylinder of the same radius facing it."""
+def contact_frame(s: np.ndarray, radius: float, other_radius: float | None) -> tuple[np.ndarray, np.ndarray]:
+    """The undeformed gap g0 [length] (divided by -N_y, module docstring) and the contact normal N
+    (n, 2) at arc lengths ``s`` [length] on a finite cylinder of ``radius`` R, in its own frame.
+
+    N points out of the finite body into the counterpart: (0, -1) against a flat (``other_radius``
+    inf) or a finite cylinder of the same radius facing it (``None``: the flat mid-plane), and from
+    the node towards the centre of a rigid convex circle of radius R_B.
+    """
     theta = np.asarray(s, dtype=float) / radius
     cos, sin = np.cos(theta), np.sin(theta)
+    down = np.broadcast_to(np.array([0.0, -1.0]), theta.shape + (2,))
     if other_radius is None:
-        return 2.0 * radius * (1.0 - cos), cos, sin
+        return 2.0 * radius * (1.0 - cos), down
     if math.isinf(other_radius):
-        return radius * (1.0 - cos), cos, sin
+        return radius * (1.0 - cos), down
     p = np.stack([radius * sin, radius * (1.0 - cos)], axis=-1)
     rel = p - np.array([0.0, -other_radius])
     dist = np.linalg.norm(rel, axis=-1)
     e = rel / dist[:, None]
-    normal = np.stack([sin, -cos], axis=-1)
-    tangent = np.stack([cos, sin], axis=-1)
-    ey = e[:, 1]
-    return (dist - other_radius) / ey, -np.einsum("id,id->i", normal, e) / ey, np.einsum("id,id->i", tangent, e) / ey
+    return (dist - other_radius) / e[:, 1], -e
+
+
+def arc_frame(s: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """The outward normal nu and the tangent tau (n, 2) of a finite body's outer circle at arc
+    lengths ``s`` [length], in its own frame (the body above its contact)."""
+    theta = np.asarray(s, dtype=float) / radius
+    cos, sin = np.cos(theta), np.sin(theta)
+    return np.stack([sin, -cos], axis=-1), np.stack([cos, sin], axis=-1)
 
 
 def _sum(a, b, sign: float):
@@ -78,11 +88,32 @@ def _sum(a, b, sign: float):
     return a if b is None else a + sign * b
 
 
-def _cross(body: Compliance) -> np.ndarray:
-    """A finite body's S_nt, which its BEM condensation always forms."""
-    if body.S_nt is None:
+def _cross(body: Compliance, name: str) -> np.ndarray:
+    """A finite body's coupling block, which its BEM condensation always forms."""
+    block = getattr(body, name)
+    if block is None:
         raise ValueError("a finite body's compliance needs its coupling blocks")
-    return body.S_nt
+    return block
+
+
+def _in_contact_frame(body: Compliance, nu, tau, normal, tangent) -> Compliance:
+    """A body's arc-frame compliance with its columns for tractions along the contact normal N and
+    tangent T: p^arc_n = p_N (N . nu) + p_T (T . nu), p^arc_t = p_N (N . tau) + p_T (T . tau)."""
+
+    def dot(a, b):
+        return np.einsum("id,id->i", a, b)
+
+    n_nu, n_tau, t_nu, t_tau = dot(normal, nu), dot(normal, tau), dot(tangent, nu), dot(tangent, tau)
+    s_nt, s_tn = _cross(body, "S_nt"), _cross(body, "S_tn")
+    return Compliance(
+        x=body.x,
+        weights=body.weights,
+        S_nn=body.S_nn * n_nu + s_nt * n_tau,
+        S_nt=body.S_nn * t_nu + s_nt * t_tau,
+        S_tn=s_tn * n_nu + body.S_tt * n_tau,
+        S_tt=s_tn * t_nu + body.S_tt * t_tau,
+        definite_normal=body.definite_normal,
+    )
 
 
 def finite_pair(
@@ -98,26 +129,33 @@ def finite_pair(
 
     ``body_a``/``body_b``: each body's own compliance with all four blocks, in its arc's directions
     (``None``: rigid); ``radius_*`` [length] (inf: flat); ``finite_*`` whether the body is a finite
-    cylinder. The normal rows carry the exact gap's factors, ``gap0`` the exact profile, and
-    ``hoop_n``/``hoop_t`` the hoop strain. ``coupling=False`` leaves out S_nt, S_tn and hoop_n.
+    cylinder. The tractions act along the contact normal and tangent, the normal rows carry the
+    exact gap's factors, ``gap0`` the exact profile, and ``hoop_n``/``hoop_t`` the hoop strain.
+    ``coupling=False`` leaves out S_nt, S_tn and hoop_n.
     """
     bodies = [b for b in (body_a, body_b) if b is not None]
     ref = bodies[0]
     if finite_a and finite_b:
         if radius_a != radius_b:
             raise ValueError("two finite cylinders in contact must have the same radius")
-        g0, c, s = gap_factors(ref.x, radius_a, None)
-    elif finite_a:
-        g0, c, s = gap_factors(ref.x, radius_a, radius_b)
-    elif finite_b:
-        g0, c, s = gap_factors(ref.x, radius_b, radius_a)
+        radius, other = radius_a, None
+    elif finite_a or finite_b:
+        radius, other = (radius_a, radius_b) if finite_a else (radius_b, radius_a)
     else:
         raise ValueError("no finite cylinder in the pair")
+    g0, normal = contact_frame(ref.x, radius, other)
+    nu, tau = arc_frame(ref.x, radius)
+    tangent = np.stack([-normal[:, 1], normal[:, 0]], axis=-1)
+    # the gap along N, scaled so that the approach enters with -1: c w + s u_t
+    c = np.einsum("id,id->i", nu, normal) / -normal[:, 1]
+    s = np.einsum("id,id->i", tau, normal) / normal[:, 1]
+    body_a = None if body_a is None else _in_contact_frame(body_a, nu, tau, normal, tangent)
+    body_b = None if body_b is None else _in_contact_frame(body_b, nu, tau, normal, tangent)
 
     def get(body, name):
         return None if body is None else getattr(body, name)
 
-    # normal and tangential displacements of both bodies per unit p_n and p_t (B carries -p_t)
+    # normal and tangential displacements of both bodies per unit p_N and p_T (B carries -p_T)
     w_n = _sum(get(body_a, "S_nn"), get(body_b, "S_nn"), 1.0)
     w_t = _sum(get(body_a, "S_nt"), get(body_b, "S_nt"), -1.0)
     u_sum_n = _sum(get(body_a, "S_tn"), get(body_b, "S_tn"), 1.0)
@@ -131,10 +169,10 @@ def finite_pair(
     hoop_t = np.zeros_like(s_nn)
     if finite_a and body_a is not None:
         hoop_n -= body_a.S_nn / radius_a
-        hoop_t -= _cross(body_a) / radius_a
-    if finite_b and body_b is not None:  # B carries -p_t
+        hoop_t -= _cross(body_a, "S_nt") / radius_a
+    if finite_b and body_b is not None:  # B carries -p_T
         hoop_n += body_b.S_nn / radius_b
-        hoop_t += _cross(body_b) / radius_b
+        hoop_t += _cross(body_b, "S_nt") / radius_b
     return Compliance(
         x=ref.x,
         weights=ref.weights,
@@ -147,3 +185,31 @@ def finite_pair(
         hoop_n=hoop_n if coupling else None,
         hoop_t=hoop_t,
     )
+
+
+def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: float) -> dict[str, float]:
+    """Result attributes of a finite cylinder (NaN for every one when the case has none).
+
+    The resultants of the contact tractions p_N N + p_T T on the finite body [force/length], in its
+    shaft's frame (y along the line of centres): ``shaft_load`` = sum w (p_N N_y + p_T T_y), the
+    compressive load on its shaft, and ``shaft_tangential_load`` the force on body A along x. Against
+    a flat or a twin (N vertical) they are P and Q exactly; against a rigid circle they differ by
+    O((a/R)^2). ``contact_angle`` and ``contact_arc`` [rad]: the contact's centre and extent on the
+    finite body's outer circle.
+    """
+    a, b = case.bodies.A, case.bodies.B
+    names = ("shaft_load", "shaft_tangential_load", "contact_angle", "contact_arc")
+    if not (a.shape == "cylinder" or b.shape == "cylinder"):
+        return dict.fromkeys(names, math.nan)
+    both = a.shape == "cylinder" and b.shape == "cylinder"
+    finite_a = a.shape == "cylinder"
+    radius = float(a.radius if finite_a else b.radius)
+    other = None if both else float(b.radius if finite_a else a.radius)
+    _, normal = contact_frame(x, radius, other)
+    tangent = np.stack([-normal[:, 1], normal[:, 0]], axis=-1)
+    w = np.asarray(weights, dtype=float)
+    p_body = p_t if finite_a else -np.asarray(p_t)  # B carries -p_T in its own frame
+    force = w @ (p_n[:, None] * normal + p_body[:, None] * tangent)  # on the finite body, its own frame
+    load = float(force[1])
+    tangential = float(force[0] if finite_a else -force[0])
+    return dict(zip(names, (load, tangential, centre / radius, 2.0 * half_width / radius), strict=True))

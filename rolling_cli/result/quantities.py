@@ -153,6 +153,19 @@ class Contact:
     coupling_strength: float | None = quantity("measured coupling max|B_tn| / max|B_tt|", "1")
     half_space_ratio: float | None = quantity("a/R of the most curved body (the half-space model needs it small)", "1")
     validity_warning: str | None = text("why the model does not describe the bodies (empty when it does)")
+    shaft_load: float | None = quantity(
+        "finite cylinder: normal resultant of the contact tractions on the shaft (NaN: no finite body)", "force/length"
+    )
+    shaft_tangential_load: float | None = quantity(
+        "finite cylinder: tangential resultant of the contact tractions on body A's shaft (NaN: no finite body)",
+        "force/length",
+    )
+    contact_angle: float | None = quantity(
+        "finite cylinder: angular position of the contact centre on its outer circle, rad (NaN: no finite body)", "1"
+    )
+    contact_arc: float | None = quantity(
+        "finite cylinder: angle the contact spans on its outer circle, rad (NaN: no finite body)", "1"
+    )
 
 
 @dataclass(kw_only=True)

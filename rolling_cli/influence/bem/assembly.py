@@ -42,6 +42,8 @@ GAUSS_NEAR = 12
 GRADING = 0.5
 #: A node closer to an element's line than this fraction of the element's length lies on it.
 ON_LINE = 1e-9
+#: Smallest sub-interval (local units) of the graded rule around a curved element's own node.
+OWN_FLOOR = 1e-9
 #: Quadrature points per vectorised chunk of the regular and nearly singular rules (bounds memory).
 _CHUNK = 50_000
 #: Doubles of one element block's H and G integrals together (bounds memory).
@@ -67,12 +69,13 @@ class Geometry:
 
 
 def geometry(mesh: BoundaryMesh) -> Geometry:
-    """The shared element data of ``mesh`` (straight elements only)."""
+    """The shared element data of ``mesh``. Straight elements lie on lines (numbered); a curved
+    one (its middle geometric node off its chord: an arc) is alone, line -1 - its number, and its
+    ``p0``, ``tangent`` and ``half`` are its chord's."""
     p0, mid, p2 = mesh.geometry[:, 0], mesh.geometry[:, 1], mesh.geometry[:, 2]
     chord = p2 - p0
     length = np.linalg.norm(chord, axis=1)
-    if not np.allclose(mid, 0.5 * (p0 + p2), atol=1e-12 * length.max()):
-        raise NotImplementedError("the BEM assembly is implemented for straight elements")
+    curved = np.linalg.norm(mid - 0.5 * (p0 + p2), axis=1) > 1e-12 * length.max()
     coeff = lagrange_coefficients(mesh.local)  # (E, 3, 3)
     xg, wg = gauss(GAUSS)  # an even order: no Gauss point sits on a node
     points, normals, jac = map_points(mesh.geometry, xg)
@@ -81,7 +84,8 @@ def geometry(mesh: BoundaryMesh) -> Geometry:
     size = float(np.abs(mesh.nodes).max())
     offset = (p0[:, 0] * tangent[:, 1] - p0[:, 1] * tangent[:, 0]) / size  # the line's signed distance from 0
     _, line = np.unique(np.round(np.column_stack([tangent, offset]), 9), axis=0, return_inverse=True)
-    return Geometry(p0, tangent, 0.5 * length, coeff, line.ravel(), points, normals, weighted)
+    line = np.where(curved, -1 - np.arange(mesh.elements), line.ravel())
+    return Geometry(p0, tangent, 0.5 * length, coeff, line, points, normals, weighted)
 
 
 def element_blocks(
@@ -134,7 +138,10 @@ def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np
     on it, with the point's local coordinate c on the element's line and its
     position among the element's nodes (-1: none); the elements alone on their
     lines (a polygon's sides, as a circle's) in one entry whose points are
-    per element, p (e, 3) its own nodes (-1: not a point), c (e, 3), own (e, 3); ``near`` (p, q, t, dist):
+    per element, p (e, 3) its own nodes (-1: not a point), c (e, 3), own (e, 3)
+    (a curved element's own nodes are ``near`` pairs at distance 0: graded
+    subdivision around the node, without the own node's strongly singular H
+    term, as the closed forms); ``near`` (p, q, t, dist):
     the nearest point's fraction t along the element and the distance
     [length]; ``regular`` (p, q).
     """
@@ -143,7 +150,8 @@ def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np
     along = np.einsum("ned,ed->ne", rel, tangent)
     across = rel[..., 1] * tangent[None, :, 0] - rel[..., 0] * tangent[None, :, 1]
     length = 2.0 * half[None, :]
-    on_line = np.abs(across) <= ON_LINE * length
+    curved = geo.line[elements] < 0
+    on_line = (np.abs(across) <= ON_LINE * length) & ~curved[None, :]
     position = np.full(mesh.size, -1)
     position[points] = np.arange(points.size)
     member = np.full(on_line.shape, -1)
@@ -154,14 +162,14 @@ def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np
     collinear = []
     lines = geo.line[elements]
     unique, counts = np.unique(lines, return_counts=True)
-    alone = np.isin(lines, unique[counts == 1])  # an element alone on its line (a polygon's side)
+    alone = np.isin(lines, unique[counts == 1]) & ~curved  # a straight element alone on its line
     own_points = np.where(member >= 0, 1, 0).sum(axis=0)  # per element: its nodes among the points
     alone &= np.count_nonzero(on_line, axis=0) == own_points  # ... and no other point on its line
     if np.any(alone):  # all at once: each against its own nodes (rows (e, 3): -1 where not a point)
         qs = np.flatnonzero(alone)
         slots = position[mesh.connectivity[elements[qs]]]
         collinear.append((qs, slots, mesh.local[elements[qs]].copy(), np.broadcast_to(np.arange(3), slots.shape)))
-    for line in np.unique(lines[~alone]):
+    for line in np.unique(lines[~alone & ~curved]):
         qs = np.flatnonzero(lines == line)
         nodes = np.flatnonzero(on_line[:, qs[0]])
         if not on_line[nodes][:, qs].all() or np.count_nonzero(on_line[:, qs]) != nodes.size * qs.size:
@@ -173,7 +181,11 @@ def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np
         collinear.append((qs, nodes, c, own))
     t = np.clip(along / length, 0.0, 1.0)
     dist = np.hypot(along - t * length, across)
-    near = ~on_line & (dist < NEAR * length)
+    own_curved = curved[None, :] & (member >= 0)  # a curved element's own nodes: at their local coordinates
+    p_own, q_own = np.nonzero(own_curved)
+    t[p_own, q_own] = 0.5 * (mesh.local[elements[q_own], member[p_own, q_own]] + 1.0)
+    dist[own_curved] = 0.0
+    near = ~on_line & ((dist < NEAR * length) | own_curved)
     i_near, q_near = np.nonzero(near)
     i_reg, q_reg = np.nonzero(~on_line & ~near)
     return collinear, (i_near, q_near, t[near], dist[near]), (i_reg, q_reg)
@@ -202,9 +214,16 @@ def _block(mesh, geo, points, elements, shear, poisson, h, g) -> None:
             for k, q in enumerate(qs):
                 h[q, :, :, nodes], g[q, :, :, nodes] = (v[k].transpose(2, 0, 1, 3) for v in values)
     i, q, t, dist = near
-    if i.size:
-        values = near_integrals(mesh, geo, np.column_stack([points[i], elements[q]]), t, dist, shear, poisson)
-        _put(h, g, q, i, [v.swapaxes(-1, -2) for v in values])
+    own = dist == 0.0  # a curved element's own nodes (a node at distance 0 from another element is its own)
+    for part in (~own, own):  # apart: the own nodes' subdivision goes down to 1e-12 of the element
+        if not np.any(part):
+            continue
+        pairs = np.column_stack([points[i[part]], elements[q[part]]])
+        values = near_integrals(mesh, geo, pairs, t[part], dist[part], shear, poisson)
+        if part is own:  # leave out the own node's strongly singular H term (the rigid-body diagonal)
+            slot = np.argmax(mesh.connectivity[pairs[:, 1]] == pairs[:, :1], axis=1)
+            values[0][np.arange(slot.size), slot] = 0.0
+        _put(h, g, q[part], i[part], [v.swapaxes(-1, -2) for v in values])
     i, q = regular
     values = regular_integrals(mesh, geo, points[i], elements[q], shear, poisson)
     _put(h, g, q, i, [v.swapaxes(-1, -2) for v in values])
@@ -259,7 +278,13 @@ def near_integrals(mesh, geo, pairs, t, dist, shear, poisson) -> tuple[np.ndarra
     [length]: H and G integrals, each (P, 3, 2, 2)."""
     length = 2.0 * geo.half[pairs[:, 1]]
     centre = 2.0 * t - 1.0  # nearest point in local coordinates
-    d_xi = np.maximum(2.0 * dist / length, 1e-12)  # distance in local units
+    # distance in local units; at least the rounding of the node's position in local units (a curved
+    # element's own node, at distance 0, is where the isoparametric map puts it only to that rounding)
+    scale = np.abs(mesh.nodes[pairs[:, 0]]).max(axis=1)
+    # (for a node on the element, 1e-9: the log part of the left-out [c - d, c + d] is 2 d (1 - ln(J d)) < 1e-7
+    # of the element's integral)
+    floor = np.where(dist == 0.0, OWN_FLOOR, 1e-12)
+    d_xi = np.maximum(2.0 * dist / length, np.maximum(floor, 1e3 * np.finfo(float).eps * 2.0 * scale / length))
     levels = int(np.ceil(np.log(max(2.0 / d_xi.min(), 1.0)) / np.log(1.0 / GRADING))) + 1
     # sub-interval edges on each side of the centre: centre +- d_xi / GRADING^k, clipped
     k = np.arange(levels + 1)
@@ -275,12 +300,14 @@ def near_integrals(mesh, geo, pairs, t, dist, shear, poisson) -> tuple[np.ndarra
     per = xi.shape[1] * xi.shape[2]
     xi = xi.reshape(len(pairs), per)
     w = w.reshape(len(pairs), per)
+    # sub-intervals clipped to nothing at an end of the element carry no weight; where that end is the
+    # point itself (a curved element's own end node) move their points off it (the kernels are singular)
+    xi = np.where(w == 0.0, np.where(np.abs(centre)[:, None] > 0.5, 0.0, 0.5), xi)
     h = np.empty((len(pairs), 3, 2, 2))
     g = np.empty_like(h)
     for part in _chunks(len(pairs), per):
         i, e = pairs[part, 0], pairs[part, 1]
-        pts, nrm, jac = map_points(mesh.geometry[e], xi[part])
-        d = pts - mesh.nodes[i][:, None, :]
+        d, nrm, jac = map_points(mesh.geometry[e] - mesh.nodes[i][:, None, :], xi[part])  # relative: no cancellation
         ws = (w[part] * jac)[..., None] * evaluate(geo.coeff[e], xi[part])  # (p, Q, 3)
         g[part] = _contract(kelvin.displacement_kernel(d, shear, poisson), ws)
         h[part] = _contract(kelvin.traction_kernel(d, nrm, poisson), ws)
