@@ -475,3 +475,25 @@ def test_wang_knothe_cylinders_against_contact(creep_time, creep, peak, elements
     assert float(-r.p_n.min()) == pytest.approx(peak, rel=5e-4)
     assert abs(float(r.creep)) == pytest.approx(creep, rel=0.015)
     assert abs(int((r.p_n < 0.0).sum()) - elements) <= 1
+
+
+def test_screen_has_one_line_per_viscoelastic_output(tmp_path):
+    """`rollc solve` prints the moments, the coefficient, the pressure shift and the hysteresis, one
+    line each, and they round-trip through the result file with their declared units."""
+    from rolling_cli import read_result
+
+    out = tmp_path / "roller.h5"
+    result = run_cli("solve", SHIPPED, "-o", out)
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    for head in ("  resistance     M = ", "  coefficient    M/(P R*) = ", "  pressure shift ", "  hysteresis     "):
+        assert sum(line.startswith(head) for line in lines) == 1, head
+    back = read_result(out)
+    direct = solve(load_case(SHIPPED))
+    assert back.rolling_resistance_coefficient == pytest.approx(direct.rolling_resistance_coefficient, rel=1e-12)
+    assert back.hysteresis_power == pytest.approx(direct.hysteresis_power, rel=1e-12)
+    import h5py
+
+    with h5py.File(out, "r") as handle:
+        units = handle["rolling_resistance_moment"].attrs["units"]
+    assert (units.decode() if isinstance(units, bytes) else str(units)) == "N/mm mm"
