@@ -79,13 +79,10 @@ def test_half_space_limit(pair):
 
 
 def test_convergence_at_a_over_r_03():
-    """A hollow roller R = 5, bore 2, on a rigid flat at a/R = 0.29 (mu = 0.3, Q/(mu P) = 0.5),
-    100 and 200 contact elements (second-order slip derivative), no validity warning (the geometry
-    is exact). The contact half-width agrees within the issue's 0.2 % (measured 0.02 %). The
-    creepage converges only like h here: measured 0.60 % between 100 and 200 elements and 0.19 %
-    between 200 and 400 (the stick-slip boundary moves by a node cell, and the creepage of this
-    coupled case, with a slip zone over a third of the contact, follows it); bound 1 % at 100/200,
-    so the issue's 0.2 % is met from 200 elements on, not at 100 (too slow for this file)."""
+    """A hollow roller R = 5, bore 2, on a rigid flat at a/R = 0.29 (mu = 0.3, Q/(mu P) = 0.5):
+    100 and 200 contact elements (second-order slip derivative) agree within 0.2 % in creepage
+    (measured 0.024 %) and contact half-width (measured 0.011 %), and no validity warning: the
+    geometry is exact."""
     results = [
         solve(
             _case(
@@ -99,7 +96,7 @@ def test_convergence_at_a_over_r_03():
         for n in (100, 200)
     ]
     coarse, fine = results
-    assert abs(coarse.creep / fine.creep - 1.0) <= 1e-2
+    assert abs(coarse.creep / fine.creep - 1.0) <= 2e-3
     assert abs(_edges_width(coarse) / _edges_width(fine) - 1.0) <= 2e-3
     assert fine.half_space_ratio > 0.25
     assert fine.validity_warning == ""
