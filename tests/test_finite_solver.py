@@ -168,7 +168,7 @@ def test_half_space_warning_names_the_finite_model():
     body = _cylinder(5.0, 2.0, young=10.0)
     half = load_case(_case(_half_space(body), RIGID_FLAT, 1.0, 20))
     warning = half_space_check(half, 1.5)["validity_warning"]
-    assert 'shape = "cylinder" under [bodies.A]' in warning and "0.36 mu a/R" in warning
+    assert 'shape = "cylinder" under [bodies.A]' in warning and "0.21 mu a/R" in warning
     finite = load_case(_case(body, RIGID_FLAT, 1.0, 20))
     assert half_space_check(finite, 1.5)["validity_warning"] == ""
 
