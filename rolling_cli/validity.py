@@ -47,6 +47,6 @@ def half_space_check(case, half_width: float) -> dict:
         if not getattr(case.bodies, label).rigid:  # the finite model exists for this body
             warning += (
                 f'; shape = "cylinder" under [bodies.{label}] models its whole cross-section (the half-space '
-                f"creepage error here is about {1.2 * ratio:.2g} mu a/R for a solid roller: README, error map)"
+                f"creepage error here is about {0.7 * ratio:.2g} mu a/R for a solid roller: README, error map)"
             )
     return {"half_space_ratio": ratio, "validity_warning": warning}

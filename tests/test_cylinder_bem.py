@@ -161,3 +161,25 @@ def test_annulus_size_counts_the_mesh():
     for half, elements, radius, inner in ((1.5, 30, 20.0, 2.0), (1.5, 200, 5.0, 4.0), (0.3, 20, 1000.0, 500.0)):
         mesh = cylinder.annulus_mesh(ContactGrid(half, elements, 2), radius, inner)
         assert cylinder.annulus_size(half, elements, radius, inner) == (mesh.size, mesh.elements)
+
+
+def test_case_bodies_give_their_shapes():
+    """bodies.X resolve to the BodyShape the influence model builds: a bore, a cover's core, the
+    half-space default, none for a rigid body."""
+    from rolling_cli.case import load_case
+
+    data = {
+        "bodies": {
+            "A": {"kind": "layered", "radius": 5.0, "young": 1.0, "poisson": 0.45, "layer_thickness": 1.0,
+                  "shape": "cylinder"},
+            "B": {"kind": "rigid", "radius": float("inf")},
+        },
+        "friction": {"mu": 0.3},
+        "normal": {"load": 1.0},
+    }  # fmt: skip
+    case = load_case(data)
+    assert case.bodies.A.body_shape == covered(5.0, 1.0) and case.bodies.B.body_shape is None
+    data["bodies"]["A"] = {"kind": "elastic", "radius": 5.0, "young": 1.0, "poisson": 0.3}
+    assert load_case(data).bodies.A.body_shape == HalfSpace()
+    data["bodies"]["A"] |= {"shape": "cylinder", "inner_radius": 2.0}
+    assert load_case(data).bodies.A.body_shape == Cylinder(5.0, 2.0)

@@ -57,8 +57,8 @@ def test_half_space_limit(pair):
     """R/a = 1340: the finite cylinder against the closed-form half-plane on the same contact grid.
     Creepage within 0.5 % and tractions within 0.5 % of mu p0 (the issue's bounds). What differs
     is the curvature: the hoop strain w/R and the arc's turning, O(a/R) ln(R/a) ~ 0.5 % of the
-    coupling terms, which carry part of the creepage here (measured: creepage 0.16 % on the flat,
-    0.04 % for the twins; p_n 0.24 % and 0.14 % of p0; p_t 0.24 % and 0.25 % of mu p0)."""
+    coupling terms, which carry part of the creepage here (measured: creepage 0.14 % on the flat,
+    0.02 % for the twins; p_n 0.24 % and 0.15 % of p0; p_t 0.24 % and 0.23 % of mu p0)."""
     radius = 20000.0
     cylinder = _cylinder(radius, 0.5 * radius)
     if pair == "twin cylinders":
@@ -79,13 +79,10 @@ def test_half_space_limit(pair):
 
 
 def test_convergence_at_a_over_r_03():
-    """A hollow roller R = 5, bore 2, on a rigid flat at a/R = 0.29 (mu = 0.3, Q/(mu P) = 0.5),
-    100 and 200 contact elements (second-order slip derivative), no validity warning (the geometry
-    is exact). The contact half-width agrees within the issue's 0.2 % (measured 0.02 %). The
-    creepage converges only like h here: measured 0.60 % between 100 and 200 elements and 0.19 %
-    between 200 and 400 (the stick-slip boundary moves by a node cell, and the creepage of this
-    coupled case, with a slip zone over a third of the contact, follows it); bound 1 % at 100/200,
-    so the issue's 0.2 % is met from 200 elements on, not at 100 (too slow for this file)."""
+    """A hollow roller R = 5, bore 2, on a rigid flat at a/R = 0.29 (mu = 0.3, Q/(mu P) = 0.5):
+    100 and 200 contact elements (second-order slip derivative) agree within 0.2 % in creepage
+    (measured 0.024 %) and contact half-width (measured 0.011 %), and no validity warning: the
+    geometry is exact."""
     results = [
         solve(
             _case(
@@ -99,7 +96,7 @@ def test_convergence_at_a_over_r_03():
         for n in (100, 200)
     ]
     coarse, fine = results
-    assert abs(coarse.creep / fine.creep - 1.0) <= 1e-2
+    assert abs(coarse.creep / fine.creep - 1.0) <= 2e-3
     assert abs(_edges_width(coarse) / _edges_width(fine) - 1.0) <= 2e-3
     assert fine.half_space_ratio > 0.25
     assert fine.validity_warning == ""
@@ -171,7 +168,7 @@ def test_half_space_warning_names_the_finite_model():
     body = _cylinder(5.0, 2.0, young=10.0)
     half = load_case(_case(_half_space(body), RIGID_FLAT, 1.0, 20))
     warning = half_space_check(half, 1.5)["validity_warning"]
-    assert 'shape = "cylinder" under [bodies.A]' in warning and "0.36 mu a/R" in warning
+    assert 'shape = "cylinder" under [bodies.A]' in warning and "0.21 mu a/R" in warning
     finite = load_case(_case(body, RIGID_FLAT, 1.0, 20))
     assert half_space_check(finite, 1.5)["validity_warning"] == ""
 
@@ -189,10 +186,9 @@ def test_flat_layer_limit(poisson, load, elements, b_over_a):
     """A covered roller (cover b = 1 on a rigid core) of R/b = 10^4 on a rigid flat against today's
     flat layer (kind = "layered", the half-space shape), at b/a ~ 0.1 and ~ 1, nu = 0.3 and 0.5:
     creepage, peak pressure and contact half-width within 0.5 % (the issue's bounds). What differs is
-    the curvature, O(a/R) <= 1e-3 (measured: creepage 0.23 % and 0.34 % at b/a = 0.10 and 0.083,
-    0.02 % and 0.0002 % at b/a = 1.1 and 1.3; peak pressure and width at most 0.17 %). Before the
-    bore was meshed as finely as a flat layer's bottom under the zone (at most b), thin covers were
-    off by 1 % here."""
+    the curvature, O(a/R) <= 1e-3 (measured: creepage 0.15 % at b/a = 0.10 and 0.083, 0.02 % at
+    b/a = 1.1 and 1.3; peak pressure and width at most 0.09 %). Before the bore was meshed as finely
+    as a flat layer's bottom under the zone (at most b), thin covers were off by 1 % here."""
     cover = {"kind": "layered", "radius": 1e4, "young": 1.0, "poisson": poisson, "layer_thickness": 1.0}
     flat = solve(_case(cover, RIGID_FLAT, load, elements))
     finite = solve(_case({**cover, "shape": "cylinder"}, RIGID_FLAT, load, elements))

@@ -125,6 +125,16 @@ class Body:
         return self.shape == "cylinder"
 
     @property
+    def body_shape(self):
+        """The body's :data:`~rolling_cli.model.shapes.BodyShape`: ``HalfSpace()``, or the ``Cylinder``
+        between :attr:`core_radius` and ``radius`` (a rigid body: ``None``)."""
+        from ..model.shapes import Cylinder, HalfSpace
+
+        if self.rigid:
+            return None
+        return Cylinder(float(self.radius), self.core_radius) if self.finite else HalfSpace()
+
+    @property
     def core_radius(self) -> float:
         """The radius of the rigid shaft or core of a finite cylinder [length]: the bore
         (elastic) or radius - layer_thickness (layered)."""

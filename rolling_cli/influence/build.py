@@ -79,10 +79,11 @@ def bem_inputs(case, the_plan, body) -> dict:
     disc = case.discretization
     grid = the_plan.grid
     if body.finite:  # the whole annulus: outer radius and the rigid shaft's or core's radius
+        shape = body.body_shape
         geometry = {
-            "shape": "cylinder",
-            "radius": float(body.radius),
-            "inner_radius": body.core_radius,
+            "shape": shape.name,
+            "radius": shape.radius,
+            "inner_radius": shape.inner_radius,
             "mesh_rules": cylinder_mesh_rules(),
         }
     elif body.kind == "layered":

@@ -24,7 +24,8 @@ def influence_model(case) -> tuple[str, str]:
         return requested, f'discretization.influence = "{requested}"'
     finite = [label for label in ("A", "B") if getattr(case.bodies, label).shape == "cylinder"]
     if finite:
-        return "bem", f"auto: body {' and '.join(finite)} is a finite cylinder, which only the BEM models"
+        which = f"body {finite[0]} is a finite cylinder" if len(finite) == 1 else "bodies A and B are finite cylinders"
+        return "bem", f"auto: {which}, which only the BEM models"
     layered = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "layered"]
     if layered:
         return "bem", f"auto: body {' and '.join(layered)} is layered, which only the BEM models"

@@ -17,6 +17,10 @@ displacement of the contact resultant on the sides and bottom; and a
 **layer** of thickness D = b bonded to a rigid core (fixed bottom) whose ends,
 at +-W, are traction-free.
 
+A third, the **finite cylinder** (an annulus on a rigid shaft or core, curved
+elements on both circles), is :mod:`.cylinder`, condensed in its contact
+arc's own directions.
+
 In the block's frame the body lies below y = 0, so the displacement into the
 body is w = -u_y, the normal traction is p_n = t_y and the tangential one
 p_t = t_x.

@@ -47,7 +47,7 @@ from .system import mixed_systems
 __all__ = ["annulus_mesh", "annulus_size", "contact_angles", "condensed", "xy_compliance", "rotate"]
 
 #: Version of the meshing rules below, part of the cache key of a finite body (bump it when they change).
-MESH_RULES = 4
+MESH_RULES = 5
 
 #: Default largest element, as a fraction of the circumference (64 elements round a circle at least).
 ARC_FRACTION = 1.0 / 64.0
