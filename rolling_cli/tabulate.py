@@ -277,6 +277,8 @@ def build_friction(
     bound = float(max(in_mu) + max(float(row.intervals.max()) for row in ordered))
     attributes = _attributes(case, the_plan, ordered, t0)
     attributes["met"] = bool(attributes["met"] and bound <= tolerance)
+    for key in ("mu", "creep_scale"):  # the case's own mu is not the table's: xi = u mu a/R* row by row
+        attributes.pop(key)
     made = FrictionTable(tuple(_plain(row) for row in ordered), float(tolerance), bound, np.array(in_mu), attributes)
     return made, [row.intervals for row in ordered]
 
