@@ -183,3 +183,35 @@ def test_friction_axis_on_carter(tmp_path):
         loaded(0.0, 0.4)
     with pytest.raises(ValueError, match="outside the table's domain"):
         loaded(1.5, 0.1)
+
+
+def test_a_jump_is_not_bisected_forever(monkeypatch):
+    """A discrete creep-force curve can jump (an active-set change with two solutions side by side);
+    splitting an interval across the jump never meets the tolerance. On a curve with a step of 0.01
+    at u = 0.123 (the solver replaced by the formula), the table stops splitting at intervals of
+    1e-6 of the range (21 halvings: a few dozen solves, far below the budget), reports the step as
+    its estimate and that it did not meet the tolerance."""
+    from types import SimpleNamespace
+
+    from rolling_cli import tabulate
+
+    case = load_case(CARTER)
+    the_plan, system = pipeline.prepare(case)
+    scale = case.friction.mu * the_plan.half_width / the_plan.radius
+    zeros = np.zeros(system.size)
+
+    def fake_solve(point, **_):
+        u = point.tangential.creep / scale
+        value = 0.5 * u + (0.01 if u > 0.123 else 0.0)
+        load = 1812.5
+        return SimpleNamespace(
+            normal_load=load, q_over_mu_p=value, dQ_dxi=0.5 * point.friction.mu * load / scale, dQ_dmu=0.0,
+            solved_overlap=0.0, creep=point.tangential.creep, p_n=zeros, p_t=zeros,
+        )  # fmt: skip
+
+    monkeypatch.setattr(tabulate.pipeline, "solve", fake_solve)
+    made, intervals = tabulate.build(case, -1.0, 1.0, 1e-3)
+    assert not made.attributes["met"]
+    assert made.error_bound == pytest.approx(0.01, rel=1e-3)
+    assert made.attributes["cases"] <= 60
+    assert np.sum(intervals > 1e-3) == 1
