@@ -983,7 +983,6 @@ def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dic
 def assemble(level: Level, history: list[dict], timings: dict, converged: bool = True) -> Result:
     """The :class:`Result` of a solved level: arrays, loads, zones, references and provenance."""
     case, the_plan, system, solution = level.case, level.plan, level.built, level.solved
-    iterations = level.iterations
     effects = the_plan.effects
     if level.origin:
         effects = effects.with_influence_origin(level.origin)
@@ -1015,25 +1014,13 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         ref_p0 = hertz.peak_pressure(load, ref_a)
     else:
         ref_a = ref_p0 = math.nan
-    strategies_run = []
-    for row in history:
-        name = f"{row.get('level', '')}: {row.get('strategy', '')}"
-        if name not in strategies_run:
-            strategies_run.append(name)
     attrs = {
         "format": "rolling_cli.result",
         "format_version": 1,
         "software_version": __version__,
         "created": utc_timestamp(),
         "title": case.title or "",
-        "converged": converged,
-        "iterations": int(iterations),
-        "residual": float(solution.evaluation.relative_residual),
-        "tolerance_applied": max(
-            [float(row["tolerance"]) for row in history if row.get("level") == level.kind and "tolerance" in row],
-            default=float(case.solver.tolerance),
-        ),
-        "strategies": "; ".join(strategies_run),
+        **_convergence_record(level, history, converged),
         "normal_load": load,
         "tangential_load": q,
         "q_over_mu_p": q / (mu * load) if mu > 0.0 and load > 0.0 else math.nan,
@@ -1043,32 +1030,11 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "mu": mu,
         "hertz_a": ref_a,
         "hertz_p0": ref_p0,
-        "mesh_half_width": the_plan.half_width,
-        "beta_dundurs": 0.5 * the_plan.beta_seed,
-        "beta_seed": the_plan.beta_seed,
         "contact_half_width": half_width,
         "contact_centre": centre,
-        "penalty_n": system.penalty_n,
-        "penalty_t": system.penalty_t,
-        "reference_penalty_n": system.reference_penalty_n,
-        "reference_penalty_t": system.reference_penalty_t,
         "traction_scale": float(np.max(np.abs(p_n))) if p_n.size else 0.0,
-        "node_spacing": system.spacing,
-        "direction": case.rolling.direction,
-        "influence": the_plan.effects.influence,
-        "contact_elements": the_plan.grid.elements,
-        "effects": effects.to_json(),
+        **_model_record(case, the_plan, system, effects, history),
         "coupling_strength": strength or 0.0,
-        **(
-            {"linear_solver": "dense LU"}  # solver/velocity.py: the slip rows' LU on every system
-            if case.friction.law != "constant" and effects.tangential
-            else _linear_solver_attributes(system, history)
-        ),
-        "effects_line": effects.line(),
-        "unit_length": case.units.length,
-        "unit_stress": case.units.stress,
-        "unit_line_force": case.units.line_force,
-        "bodies": f"A: {a.kind}, B: {b.kind}",
         "message": "",
         "time_influence": timings["influence"],
         "time_solve": timings["solve"],
@@ -1078,24 +1044,12 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
     attrs.update(_sensitivities(case, system, state, converged, half_width))
     attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
-    reference = {}
     visco = a.kind == "viscoelastic" or b.kind == "viscoelastic"
     if visco:  # rolling resistance, pressure shift, hysteresis (nothing for an elastic case)
         from .model import resistance
 
         attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius))
-    similar = (
-        effects_mod.cross_compliance(case) == 0.0
-        and a.kind not in ("layered", "viscoelastic")
-        and b.kind not in ("layered", "viscoelastic")
-        and mu > 0.0
-        and load > 0.0
-    )
-    if similar:
-        reference["hertz_pressure"] = hertz.pressure(system.x, ref_a, ref_p0)
-        ratio = float(np.clip(q / (mu * load), -1.0, 1.0))
-        reference["carter_traction"] = carter.traction(system.x, ratio, ref_a, ref_p0, mu, case.rolling.direction)
-        attrs["carter_creep"] = carter.creepage(ratio, ref_a, the_plan.radius, mu)
+    reference = _closed_forms(case, system.x, the_plan.radius, q, load, ref_a, ref_p0, attrs)
     result = Result(
         x=system.x,
         weights=w,
@@ -1111,6 +1065,81 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     )
     result.record(**attrs)
     return result
+
+
+def _model_record(case: Case, the_plan: Plan, system: ContactSystem, effects, history: list[dict]) -> dict:
+    """What was simulated and on what: mesh scale, beta (Dundurs' and the seed paper's), penalties,
+    node spacing, rolling direction, influence model, elements, effects, linear solver, unit names."""
+    a, b = case.bodies.A, case.bodies.B
+    return {
+        "mesh_half_width": the_plan.half_width,
+        "beta_dundurs": 0.5 * the_plan.beta_seed,
+        "beta_seed": the_plan.beta_seed,
+        "penalty_n": system.penalty_n,
+        "penalty_t": system.penalty_t,
+        "reference_penalty_n": system.reference_penalty_n,
+        "reference_penalty_t": system.reference_penalty_t,
+        "node_spacing": system.spacing,
+        "direction": case.rolling.direction,
+        "influence": the_plan.effects.influence,
+        "contact_elements": the_plan.grid.elements,
+        "effects": effects.to_json(),
+        **(
+            {"linear_solver": "dense LU"}  # solver/velocity.py: the slip rows' LU on every system
+            if case.friction.law != "constant" and effects.tangential
+            else _linear_solver_attributes(system, history)
+        ),
+        "effects_line": effects.line(),
+        "unit_length": case.units.length,
+        "unit_stress": case.units.stress,
+        "unit_line_force": case.units.line_force,
+        "bodies": f"A: {a.kind}, B: {b.kind}",
+    }
+
+
+def _convergence_record(level: Level, history: list[dict], converged: bool) -> dict:
+    """Whether and how the level's solve converged: iterations, relative residual, the tolerance
+    applied on this level and the strategies that ran (in order, each once)."""
+    strategies_run: list[str] = []
+    for row in history:
+        name = f"{row.get('level', '')}: {row.get('strategy', '')}"
+        if name not in strategies_run:
+            strategies_run.append(name)
+    return {
+        "converged": converged,
+        "iterations": int(level.iterations),
+        "residual": float(level.solved.evaluation.relative_residual),
+        "tolerance_applied": max(
+            [float(row["tolerance"]) for row in history if row.get("level") == level.kind and "tolerance" in row],
+            default=float(level.case.solver.tolerance),
+        ),
+        "strategies": "; ".join(strategies_run),
+    }
+
+
+def _closed_forms(
+    case: Case, x: np.ndarray, radius: float, q: float, load: float, ref_a: float, ref_p0: float, attrs: dict
+) -> dict:
+    """Hertz's pressure and Carter's traction on the nodes ``x`` [length] where they hold (elastic
+    half-spaces, exactly decoupled, with friction and a load), at the solved load [force/length]
+    and Q; Carter's creepage goes into ``attrs``. Nothing otherwise."""
+    a, b = case.bodies.A, case.bodies.B
+    mu = case.friction.mu
+    similar = (
+        effects_mod.cross_compliance(case) == 0.0
+        and a.kind not in ("layered", "viscoelastic")
+        and b.kind not in ("layered", "viscoelastic")
+        and mu > 0.0
+        and load > 0.0
+    )
+    if not similar:
+        return {}
+    ratio = float(np.clip(q / (mu * load), -1.0, 1.0))
+    attrs["carter_creep"] = carter.creepage(ratio, ref_a, radius, mu)
+    return {
+        "hertz_pressure": hertz.pressure(x, ref_a, ref_p0),
+        "carter_traction": carter.traction(x, ratio, ref_a, ref_p0, mu, case.rolling.direction),
+    }
 
 
 def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:

@@ -59,6 +59,40 @@ def _resistance_lines(attrs, length: str, line: str) -> list[str]:
     ]
 
 
+def _effects_lines(attrs) -> list[str]:
+    """One line per effect (what was simulated or skipped, and why), then the plan's warnings."""
+    effects = json.loads(attrs.get("effects", "{}")) if attrs.get("effects") else {}
+    notes = [f"{name}: {text}" for name, text in effects.get("notes", {}).items()]
+    lines = [
+        ("  effects        " if k == 0 else _INDENT) + note
+        for k, note in enumerate(notes or [attrs.get("effects_line", "")])
+    ]
+    return lines + [f"  WARNING        {warning}" for warning in effects.get("warnings", [])]
+
+
+def _accuracy_lines(attrs) -> list[str]:
+    """The adaptive mesh's accuracy line and note, and the a-posteriori error estimate, when recorded."""
+    from .adapt.levels import summary_line  # imported when a summary is printed (not by rollc -q)
+
+    lines = []
+    accuracy = summary_line(attrs)
+    if accuracy:
+        lines.append(accuracy)
+        if attrs.get("adaptive_note"):
+            lines.append(f"  WARNING        {attrs['adaptive_note']}")
+    if attrs.get("error_estimate_note"):
+        lines.append(f"  error estimate {attrs['error_estimate_note']}")
+    elif "error_estimate" in attrs:
+        lines.append(
+            f"  error estimate against {attrs.get('error_estimate_elements')} elements "
+            f"({attrs.get('error_estimate_method', 'half mesh')}): "
+            f"traction max {_fmt(attrs['error_estimate'], 3)}, RMS {_fmt(attrs.get('error_estimate_rms'), 3)} "
+            f"(of mu p0); creepage {_fmt(attrs.get('error_estimate_creep'), 3)}, load "
+            f"{_fmt(attrs.get('error_estimate_load'), 3)} (relative)"
+        )
+    return lines
+
+
 def summary(result: Result, output: str | None = None) -> str:
     """Multi-line text: convergence, loads, creepage, zones, effects and times."""
     u = result.units
@@ -72,12 +106,7 @@ def summary(result: Result, output: str | None = None) -> str:
         f"  converged      {status}, {attrs.get('iterations')} Newton iterations, "
         f"relative residual {attrs.get('residual', math.nan):.2e}"
     )
-    effects = json.loads(attrs.get("effects", "{}")) if attrs.get("effects") else {}
-    notes = [f"{name}: {text}" for name, text in effects.get("notes", {}).items()]
-    for k, note in enumerate(notes or [attrs.get("effects_line", "")]):
-        lines.append(("  effects        " if k == 0 else _INDENT) + note)
-    for warning in effects.get("warnings", []):
-        lines.append(f"  WARNING        {warning}")
+    lines.extend(_effects_lines(attrs))
     lines.append(
         f"  loads          P = {_fmt(attrs['normal_load'])} {line}, Q = {_fmt(attrs['tangential_load'])} {line}, "
         f"Q/(mu P) = {_fmt(attrs.get('q_over_mu_p'), 5)} "
@@ -117,23 +146,7 @@ def summary(result: Result, output: str | None = None) -> str:
         if name == "separation":
             continue
         lines.append(f"  {name:<14} x = {start:.5g} .. {end:.5g} {length}")
-    from .adapt.levels import summary_line  # imported when a summary is printed (not by rollc -q)
-
-    accuracy = summary_line(attrs)
-    if accuracy:
-        lines.append(accuracy)
-        if attrs.get("adaptive_note"):
-            lines.append(f"  WARNING        {attrs['adaptive_note']}")
-    if attrs.get("error_estimate_note"):
-        lines.append(f"  error estimate {attrs['error_estimate_note']}")
-    elif "error_estimate" in attrs:
-        lines.append(
-            f"  error estimate against {attrs.get('error_estimate_elements')} elements "
-            f"({attrs.get('error_estimate_method', 'half mesh')}): "
-            f"traction max {_fmt(attrs['error_estimate'], 3)}, RMS {_fmt(attrs.get('error_estimate_rms'), 3)} "
-            f"(of mu p0); creepage {_fmt(attrs.get('error_estimate_creep'), 3)}, load "
-            f"{_fmt(attrs.get('error_estimate_load'), 3)} (relative)"
-        )
+    lines.extend(_accuracy_lines(attrs))
     if "rolling_resistance_moment" in attrs:  # a viscoelastic body
         lines.extend(_resistance_lines(attrs, length, line))
     power_line = power.summary_line(attrs, line)
