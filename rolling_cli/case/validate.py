@@ -184,41 +184,7 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
     for label in ("A", "B"):
         body = getattr(case.bodies, label)
         key = f"bodies.{label}"
-        if body.kind == "rigid":
-            for name in ("young", "poisson", "layer_thickness"):
-                if getattr(body, name) is not None:
-                    raise _fail(file, f"{key}.{name}", getattr(body, name), 'not used by kind = "rigid"', "remove it")
-        else:
-            for name in ("young", "poisson"):
-                if getattr(body, name) is None:
-                    allowed = _allowed(_meta(schema.Body, name))
-                    raise CaseError(
-                        f'{key}.{name}: missing key (kind = "{body.kind}"); allowed: {allowed}',
-                        file=file,
-                        key=f"{key}.{name}",
-                    )
-            if body.kind == "layered" and body.layer_thickness is None:
-                raise CaseError(
-                    f'{key}.layer_thickness: missing key (kind = "layered"); allowed: a number > 0',
-                    file=file,
-                    key=f"{key}.layer_thickness",
-                )
-            if body.kind == "layered" and not body.layer_thickness < body.radius:
-                raise _fail(
-                    file,
-                    f"{key}.layer_thickness",
-                    body.layer_thickness,
-                    f"not thinner than the body (radius {body.radius:g})",
-                    f"a number < bodies.{label}.radius",
-                )
-            if body.kind in ("elastic", "viscoelastic") and body.layer_thickness is not None:
-                raise _fail(
-                    file,
-                    f"{key}.layer_thickness",
-                    body.layer_thickness,
-                    f'not used by kind = "{body.kind}"',
-                    "remove it",
-                )
+        _check_body_keys(body, label, file)
         viscoelastic.check_body(body, key, file)
     _check_shapes(case, file)
     if case.bodies.A.rigid and case.bodies.B.rigid:
@@ -264,6 +230,103 @@ def check_consistency(case: schema.Case, file: str | None) -> None:
     kind, value = case.tangential.control()
     if kind == "q_over_mu_p" and mu == 0.0:
         raise _fail(file, "tangential.q_over_mu_p", value, "undefined for friction.mu = 0", "tangential.load or creep")
+
+
+def _check_body_keys(body: schema.Body, label: str, file: str | None) -> None:
+    """The keys a body's kind needs and no others: moduli for a deformable body, a layer thickness
+    (thinner than the body) for a layered one, none of them for a rigid one."""
+    key = f"bodies.{label}"
+    if body.kind == "rigid":
+        for name in ("young", "poisson", "layer_thickness"):
+            if getattr(body, name) is not None:
+                raise _fail(file, f"{key}.{name}", getattr(body, name), 'not used by kind = "rigid"', "remove it")
+    else:
+        for name in ("young", "poisson"):
+            if getattr(body, name) is None:
+                allowed = _allowed(_meta(schema.Body, name))
+                raise CaseError(
+                    f'{key}.{name}: missing key (kind = "{body.kind}"); allowed: {allowed}',
+                    file=file,
+                    key=f"{key}.{name}",
+                )
+        if body.kind == "layered" and body.layer_thickness is None:
+            raise CaseError(
+                f'{key}.layer_thickness: missing key (kind = "layered"); allowed: a number > 0',
+                file=file,
+                key=f"{key}.layer_thickness",
+            )
+        if body.kind == "layered" and not body.layer_thickness < body.radius:
+            raise _fail(
+                file,
+                f"{key}.layer_thickness",
+                body.layer_thickness,
+                f"not thinner than the body (radius {body.radius:g})",
+                f"a number < bodies.{label}.radius",
+            )
+        if body.kind in ("elastic", "viscoelastic") and body.layer_thickness is not None:
+            raise _fail(
+                file,
+                f"{key}.layer_thickness",
+                body.layer_thickness,
+                f'not used by kind = "{body.kind}"',
+                "remove it",
+            )
+
+
+def _check_body_shape(body: schema.Body, label: str, file: str | None) -> None:
+    """One body's ``shape`` and ``inner_radius``: none on a rigid body, a bore only on a finite
+    elastic cylinder (inside it), a finite radius, no viscoelastic finite cylinder."""
+    key = f"bodies.{label}"
+    if body.rigid:
+        if body.shape != "half-space":
+            raise _fail(file, f"{key}.shape", body.shape, "a rigid body has no elastic shape", "remove it")
+        if body.inner_radius is not None:
+            raise _fail(file, f"{key}.inner_radius", body.inner_radius, 'not used by kind = "rigid"', "remove it")
+        return
+    if not body.finite:
+        if body.inner_radius is not None:
+            raise _fail(file, f"{key}.inner_radius", body.inner_radius, 'not used by shape = "half-space"', "remove it")
+        return
+    if body.kind == "viscoelastic" or getattr(body, "viscoelastic", False):
+        raise _fail(
+            file,
+            f"{key}.shape",
+            body.shape,
+            "a viscoelastic finite cylinder is not implemented (the steady-rolling kernels are the half-plane's)",
+            '"half-space"',
+        )
+    if math.isinf(body.radius):
+        raise _fail(
+            file,
+            f"{key}.radius",
+            body.radius,
+            'a flat has no finite cross-section (shape = "cylinder")',
+            "a finite radius",
+        )
+    if body.kind == "layered":
+        if body.inner_radius is not None:
+            raise _fail(
+                file,
+                f"{key}.inner_radius",
+                body.inner_radius,
+                "not used by a layered cylinder (its rigid core has radius radius - layer_thickness)",
+                "remove it",
+            )
+        return
+    if body.inner_radius is None:
+        raise CaseError(
+            f'{key}.inner_radius: missing key (shape = "cylinder"); allowed: a number in (0, {body.radius:g})',
+            file=file,
+            key=f"{key}.inner_radius",
+        )
+    if not body.inner_radius < body.radius:
+        raise _fail(
+            file,
+            f"{key}.inner_radius",
+            body.inner_radius,
+            f"not inside the body (radius {body.radius:g})",
+            f"a number < bodies.{label}.radius",
+        )
 
 
 def _check_friction(case: schema.Case, file: str | None) -> None:
@@ -332,60 +395,7 @@ def _check_shapes(case: schema.Case, file: str | None) -> None:
     radius, its bore (elastic) inside it, its counterpart rigid or a finite cylinder of the same
     radius (the contact nodes of the two arcs then face each other), on the BEM."""
     for label in ("A", "B"):
-        body = getattr(case.bodies, label)
-        key = f"bodies.{label}"
-        if body.rigid:
-            if body.shape != "half-space":
-                raise _fail(file, f"{key}.shape", body.shape, "a rigid body has no elastic shape", "remove it")
-            if body.inner_radius is not None:
-                raise _fail(file, f"{key}.inner_radius", body.inner_radius, 'not used by kind = "rigid"', "remove it")
-            continue
-        if not body.finite:
-            if body.inner_radius is not None:
-                raise _fail(
-                    file, f"{key}.inner_radius", body.inner_radius, 'not used by shape = "half-space"', "remove it"
-                )
-            continue
-        if body.kind == "viscoelastic" or getattr(body, "viscoelastic", False):
-            raise _fail(
-                file,
-                f"{key}.shape",
-                body.shape,
-                "a viscoelastic finite cylinder is not implemented (the steady-rolling kernels are the half-plane's)",
-                '"half-space"',
-            )
-        if math.isinf(body.radius):
-            raise _fail(
-                file,
-                f"{key}.radius",
-                body.radius,
-                'a flat has no finite cross-section (shape = "cylinder")',
-                "a finite radius",
-            )
-        if body.kind == "layered":
-            if body.inner_radius is not None:
-                raise _fail(
-                    file,
-                    f"{key}.inner_radius",
-                    body.inner_radius,
-                    "not used by a layered cylinder (its rigid core has radius radius - layer_thickness)",
-                    "remove it",
-                )
-            continue
-        if body.inner_radius is None:
-            raise CaseError(
-                f'{key}.inner_radius: missing key (shape = "cylinder"); allowed: a number in (0, {body.radius:g})',
-                file=file,
-                key=f"{key}.inner_radius",
-            )
-        if not body.inner_radius < body.radius:
-            raise _fail(
-                file,
-                f"{key}.inner_radius",
-                body.inner_radius,
-                f"not inside the body (radius {body.radius:g})",
-                f"a number < bodies.{label}.radius",
-            )
+        _check_body_shape(getattr(case.bodies, label), label, file)
     a, b = case.bodies.A, case.bodies.B
     for label, body, other in (("A", a, b), ("B", b, a)):
         if body.finite and not other.rigid and not (other.finite and other.radius == body.radius):
