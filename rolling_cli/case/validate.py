@@ -249,13 +249,14 @@ def _check_body_keys(body: schema.Body, label: str, file: str | None) -> None:
                     file=file,
                     key=f"{key}.{name}",
                 )
-        if body.kind == "layered" and body.layer_thickness is None:
+        thickness = body.layer_thickness
+        if body.kind == "layered" and thickness is None:
             raise CaseError(
                 f'{key}.layer_thickness: missing key (kind = "layered"); allowed: a number > 0',
                 file=file,
                 key=f"{key}.layer_thickness",
             )
-        if body.kind == "layered" and not body.layer_thickness < body.radius:
+        if body.kind == "layered" and thickness is not None and not thickness < body.radius:
             raise _fail(
                 file,
                 f"{key}.layer_thickness",
