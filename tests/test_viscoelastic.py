@@ -497,3 +497,22 @@ def test_screen_has_one_line_per_viscoelastic_output(tmp_path):
     with h5py.File(out, "r") as handle:
         units = handle["rolling_resistance_moment"].attrs["units"]
     assert (units.decode() if isinstance(units, bytes) else str(units)) == "N/mm mm"
+
+
+def test_the_material_home_has_elastic_and_viscoelastic_bodies():
+    """model.viscoelastic.material: an elastic body is the material without retardation terms (J = 1/E at
+    every time), a viscoelastic one its creep compliance, a rigid one none; an SLS with E_r = E_g is elastic."""
+    from rolling_cli.case.schema import Body
+    from rolling_cli.model import viscoelastic as ve
+
+    steel = ve.material(Body(kind="elastic", radius=50.0, young=210000.0, poisson=0.3))
+    t = np.array([0.0, 1e-3, 1.0, 1e3])
+    assert steel.label == "elastic" and np.all(steel.creep(t) == 1.0 / 210000.0)
+    assert steel.glassy_young == steel.relaxed_young == pytest.approx(210000.0, rel=1e-15)
+    assert ve.material(Body(kind="rigid", radius=50.0)) is None
+    same = ve.standard_linear_solid(3200.0, 3200.0, 0.01, 0.4)
+    np.testing.assert_allclose(same.creep(t), ve.elastic(3200.0, 0.4).creep(t), rtol=1e-15)
+    rubber = ve.material(
+        Body(kind="viscoelastic", radius=50.0, young=3200.0, poisson=0.4, relaxed_young=1600.0, creep_time=0.01)
+    )
+    assert rubber.creep(np.array([1e9]))[0] == pytest.approx(1.0 / 1600.0, rel=1e-12)

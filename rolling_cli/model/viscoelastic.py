@@ -125,6 +125,23 @@ def prony_relaxation(glassy_young: float, terms, poisson: float) -> Viscoelastic
     return Viscoelastic(1.0 / glassy_young, tuple(compliances), tuple(times), float(poisson), label)
 
 
+#: The material of a deformable body: its creep compliance J(t) at a constant Poisson ratio. A linear
+#: elastic body is the material without retardation terms (J = 1/E at all times, :func:`elastic`).
+Material = Viscoelastic
+
+
+def elastic(young: float, poisson: float) -> Material:
+    """The linear elastic material of Young's modulus E [stress] and Poisson ratio nu [-]: J(t) = 1/E."""
+    return Viscoelastic(1.0 / float(young), (), (), float(poisson), "elastic")
+
+
+def material(body) -> Material | None:
+    """The material of a case body: elastic (also a layered body's layer) or viscoelastic; None if rigid."""
+    if body.kind == "rigid":
+        return None
+    return from_body(body) or elastic(float(body.young), float(body.poisson))
+
+
 def from_body(body) -> Viscoelastic | None:
     """The creep compliance of a case body (:class:`~rolling_cli.case.schema.Body`); None unless viscoelastic."""
     if body.kind != "viscoelastic":
