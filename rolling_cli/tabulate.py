@@ -260,8 +260,8 @@ def build_friction(
             continue
         if b - a <= NARROWEST * (mu_high - mu_low):  # a jump in mu: the largest difference of the two rows
             u = _probes(_plain(rows[a]), _plain(rows[b]))
-            q_low, q_high = (hermite(r.nodes, r.values, r.slopes, u) for r in (rows[a], rows[b]))
-            accepted[(a, b)] = float(np.max(np.abs(q_high - q_low)))
+            below, above = (hermite(r.nodes, r.values, r.slopes, u) for r in (rows[a], rows[b]))
+            accepted[(a, b)] = float(np.max(np.abs(above - below)))
             continue
         middle = _plain(add(0.5 * (a + b)))
         low, high = _plain(rows[a]), _plain(rows[b])
