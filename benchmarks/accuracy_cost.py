@@ -59,14 +59,14 @@ import rolling_cli  # noqa: E402
 from rolling_cli.adapt import transfer  # noqa: E402
 from rolling_cli.case import case_to_toml, load_case, with_overrides  # noqa: E402
 from rolling_cli.errors import RollingError  # noqa: E402
-from rolling_cli.estimate import add_error_estimate  # noqa: E402
-from rolling_cli.grid import ContactGrid  # noqa: E402
+from rolling_cli.files.io_hdf5 import read_result  # noqa: E402
 from rolling_cli.influence import bem, combine  # noqa: E402
 from rolling_cli.influence.build import clear_memo  # noqa: E402
-from rolling_cli.io_hdf5 import read_result  # noqa: E402
+from rolling_cli.model.grid import ContactGrid  # noqa: E402
 from rolling_cli.pipeline import plan  # noqa: E402
+from rolling_cli.pipeline.estimate import add_error_estimate  # noqa: E402
 from rolling_cli.references import carter  # noqa: E402
-from rolling_cli.system import build_system  # noqa: E402
+from rolling_cli.solver.system import build_system  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "benchmarks" / "results"
@@ -295,7 +295,7 @@ def rollc(case, repeats: int):
 
 def startup_time(repeats: int = 5) -> float:
     """Whole-process time of ``rollc --version`` plus the imports a solve needs [s] (fastest)."""
-    code = "import rolling_cli.cli, rolling_cli.pipeline, rolling_cli.io_hdf5"
+    code = "import rolling_cli.cli, rolling_cli.pipeline, rolling_cli.files.io_hdf5"
     best = math.inf
     for _ in range(repeats):
         t = time.perf_counter()

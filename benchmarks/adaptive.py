@@ -47,12 +47,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import rolling_cli  # noqa: E402
 from rolling_cli.adapt import transfer  # noqa: E402
 from rolling_cli.adapt.accuracy import traction_estimate  # noqa: E402
-from rolling_cli.adapt.explicit import solve_on_grid  # noqa: E402
 from rolling_cli.adapt.grading import graded_grid  # noqa: E402
 from rolling_cli.blas import single_threaded  # noqa: E402
 from rolling_cli.case import load_case, with_overrides  # noqa: E402
-from rolling_cli.grid import ContactGrid  # noqa: E402
 from rolling_cli.influence.build import clear_memo  # noqa: E402
+from rolling_cli.model.grid import ContactGrid  # noqa: E402
+from rolling_cli.pipeline.explicit import solve_on_grid  # noqa: E402
 from rolling_cli.references import carter, hertz  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -18,8 +18,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from helpers import case_dict, solve  # noqa: E402
-from rolling_cli.rows import row_from_result  # noqa: E402
-from rolling_cli.writer import ResultFile  # noqa: E402
+from rolling_cli.files.rows import row_from_result  # noqa: E402
+from rolling_cli.files.writer import ResultFile  # noqa: E402
 
 
 def main() -> None:

@@ -31,8 +31,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from rolling_cli import blas, sweep  # noqa: E402
+from rolling_cli import blas  # noqa: E402
 from rolling_cli.case import load_case  # noqa: E402
+from rolling_cli.study import sweep  # noqa: E402
 
 CASES = "carter,dissimilar_q75,dissimilar_qm83,tyred_fig11_q41"
 
@@ -74,9 +75,11 @@ def main() -> None:
     parser.add_argument("--cases", default=CASES)
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args()
-    print("| case | curve | failed (warm / cold) | iterations warm-started: median (mean) | cold: median (mean) "
-          "| in-process warm / cold [s] | speed-up | Newton warm / cold [s] | speed-up | whole process warm / cold [s] "
-          "| speed-up |")
+    print(
+        "| case | curve | failed (warm / cold) | iterations warm-started: median (mean) | cold: median (mean) "
+        "| in-process warm / cold [s] | speed-up | Newton warm / cold [s] | speed-up | whole process warm / cold [s] "
+        "| speed-up |"
+    )
     print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     with tempfile.TemporaryDirectory() as tmp, blas.single_threaded():
         work = Path(tmp)

@@ -1,4 +1,4 @@
-"""The resource estimate (rolling_cli.resources) against measured peaks and times.
+"""The resource estimate (rolling_cli.pipeline.resources) against measured peaks and times.
 
 Each case is solved once, cold (no influence cache), in its own process; the
 table gives the estimated peak memory and the measured peak of the traced numpy
@@ -20,8 +20,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 from helpers import case_dict, dissimilar  # noqa: E402
-from rolling_cli import resources  # noqa: E402
 from rolling_cli.case import load_case  # noqa: E402
+from rolling_cli.pipeline import resources  # noqa: E402
 
 _MEASURE = """
 import json, resource, sys, time, tracemalloc

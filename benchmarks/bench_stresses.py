@@ -24,10 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
-from rolling_cli import blas, materials, pipeline
+from rolling_cli import blas, pipeline
 from rolling_cli.case import load_case
 from rolling_cli.case.schema import Stresses
 from rolling_cli.influence import build
+from rolling_cli.model import materials
 from rolling_cli.stresses import bem, compute, halfplane
 
 CASES = Path(__file__).resolve().parents[1] / "cases"

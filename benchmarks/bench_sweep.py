@@ -31,7 +31,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 RUN = """
 import json, os, resource, sys, time
-from rolling_cli import sweep
+from rolling_cli.study import sweep
 from rolling_cli.case import load_case
 args = json.loads(sys.argv[1])
 base = load_case(args["case"])
@@ -145,8 +145,8 @@ def transfer_seconds(case: dict) -> float:
     import pickle
     import time
 
-    from rolling_cli import sweep
     from rolling_cli.case import load_case
+    from rolling_cli.study import sweep
 
     spec = sweep.spec_from_options(study(80), False)
     items = [(i, spec.combination(i)) for i in range(sweep.CHUNK)]

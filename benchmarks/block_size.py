@@ -42,10 +42,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import rolling_cli  # noqa: E402
 from rolling_cli.case import load_case, with_overrides  # noqa: E402
-from rolling_cli.grid import ContactGrid  # noqa: E402
 from rolling_cli.influence import bem, halfplane  # noqa: E402
 from rolling_cli.influence.bem import farfield  # noqa: E402
 from rolling_cli.influence.bem.mesh import BoundaryMesh, _Builder, _frozen, graded_edges  # noqa: E402
+from rolling_cli.model.grid import ContactGrid  # noqa: E402
 from rolling_cli.references import flamant, hertz  # noqa: E402
 
 CASES = Path(__file__).resolve().parents[1] / "cases"

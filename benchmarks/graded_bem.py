@@ -30,7 +30,7 @@ from accuracy_cost import Reference, adaptive_case, measure, run  # noqa: E402
 
 import rolling_cli  # noqa: E402
 from rolling_cli.case import load_case, with_overrides  # noqa: E402
-from rolling_cli.io_hdf5 import read_result, write_result  # noqa: E402
+from rolling_cli.files.io_hdf5 import read_result, write_result  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 REFERENCE_ELEMENTS = 640

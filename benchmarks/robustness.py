@@ -79,7 +79,7 @@ def random_case(rng: random.Random) -> tuple[dict, float]:
 
 def random_small_mu_case(rng: random.Random) -> tuple[dict, float]:
     """A small-friction, coupled half-space case near full slip (part 3) and its mu |beta_Dundurs|."""
-    from rolling_cli import materials
+    from rolling_cli.model import materials
 
     while True:  # a coupling: redraw the materials until |beta_Dundurs| >= 0.02
         rigid = rng.random() < 0.3

@@ -9,8 +9,8 @@ method. Data flows one way, through plain arrays:
    dataclasses; every error names the file, the dotted key, the value and what
    is allowed.
 2. **plan** (:func:`rolling_cli.pipeline.plan`): E*, R*, beta, the Hertz scale,
-   the contact grid (:mod:`rolling_cli.grid`) and the effects the case needs
-   (:mod:`rolling_cli.effects`).
+   the contact grid (:mod:`rolling_cli.model.grid`) and the effects the case needs
+   (:mod:`rolling_cli.pipeline.effects`).
 3. **influence** (:mod:`rolling_cli.influence`): the condensed compliance
    blocks S_nn, S_nt, S_tn, S_tt on the contact nodes, from the closed-form
    half-plane (:mod:`~rolling_cli.influence.halfplane`) or the BEM
@@ -18,21 +18,21 @@ method. Data flows one way, through plain arrays:
    (:mod:`rolling_cli.model.viscoelastic`) in steady rolling by the history
    kernels of :mod:`~rolling_cli.influence.viscoelastic`, their rolling
    resistance by :mod:`rolling_cli.model.resistance`.
-4. **contact system** (:mod:`rolling_cli.system`): gap and slip as linear
+4. **contact system** (:mod:`rolling_cli.solver.system`): gap and slip as linear
    functions of the tractions, with the upwind slip operator
-   (:mod:`rolling_cli.slip`).
+   (:mod:`rolling_cli.model.slip`).
 5. **Newton** (:mod:`rolling_cli.solver`): the projection equations solved by
    the generalised Newton method, with load control and a watchdog line search;
    then the derivatives of the converged solve by implicit differentiation
    (:mod:`rolling_cli.solver.sensitivity`: dQ/dxi, dQ/dmu, dQ/dP, ...).
 6. **result** (:mod:`rolling_cli.result`), then **files and plots**: one
-   layout for results and sweeps (:mod:`rolling_cli.layout`), written by
-   appending rows (:mod:`rolling_cli.writer`), read by :mod:`rolling_cli.reader`
+   layout for results and sweeps (:mod:`rolling_cli.files.layout`), written by
+   appending rows (:mod:`rolling_cli.files.writer`), read by :mod:`rolling_cli.files.reader`
    (:func:`open_result`: an ``xarray.Dataset``), exported as tables
-   (:mod:`rolling_cli.export`), plotted (:mod:`rolling_cli.plot`); sweeps
-   (:mod:`rolling_cli.sweep`; families of creep-force curves:
-   :mod:`rolling_cli.families`) run serially, on local workers or on Dask;
-   creep-force tables (``rollc table``, built by :mod:`rolling_cli.tabulate`;
+   (:mod:`rolling_cli.files.export`), plotted (:mod:`rolling_cli.report.plot`); sweeps
+   (:mod:`rolling_cli.study.sweep`; families of creep-force curves:
+   :mod:`rolling_cli.study.families`) run serially, on local workers or on Dask;
+   creep-force tables (``rollc table``, built by :mod:`rolling_cli.study.tabulate`;
    :func:`rolling_cli.table.load` reads one as a numpy-only interpolant).
 
 Python use::
@@ -61,11 +61,11 @@ def __getattr__(name):
 
         return solve
     if name in ("write_result", "read_result"):
-        from . import io_hdf5
+        from .files import io_hdf5
 
         return getattr(io_hdf5, name)
     if name == "open_result":
-        from .dataset import open_result
+        from .files.dataset import open_result
 
         return open_result
     if name == "Result":

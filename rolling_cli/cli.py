@@ -33,7 +33,7 @@ def _fail(message: str, code: int) -> None:
 
 def _run(action):
     """Run a command body, mapping rolling_cli errors to one line and an exit code."""
-    from .outputs import WriteError
+    from .files.outputs import WriteError
 
     try:
         return action()
@@ -83,7 +83,7 @@ def default_output(case_path: str, configured: str | None) -> str:
     """Result path: ``[output] file`` if set (relative, inside the working directory), else the
     case file's name with .h5 in the working directory."""
     if configured:
-        from .outputs import confined_output
+        from .files.outputs import confined_output
 
         return confined_output(configured, case_path)
     return Path(case_path).with_suffix(".h5").name
@@ -116,9 +116,10 @@ def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, e
     """Solve CASE_FILE and write the result to HDF5."""
 
     def action():
-        from . import blas, outputs
+        from . import blas
         from .case import load_case
-        from .io_hdf5 import write_result
+        from .files import outputs
+        from .files.io_hdf5 import write_result
         from .pipeline import solve as run_solve
 
         _imported()
@@ -133,17 +134,17 @@ def solve(ctx, case_file, output, overwrite, keep_failed, make_plot, no_cache, e
             start = time.perf_counter()
             result = run_solve(case, keep_failed=keep_failed, use_cache=not no_cache)
             if error_estimate and result.attributes.get("converged"):
-                from .estimate import add_error_estimate
+                from .pipeline.estimate import add_error_estimate
 
                 add_error_estimate(case, result, use_cache=not no_cache)
             result.attributes["time_total"] = time.perf_counter() - start
             write_result(result, out, overwrite=overwrite, command=_command())
             if figure:
-                from .plot import plot_file
+                from .report.plot import plot_file
 
                 plot_file(out, figure)
         if not ctx.obj["quiet"]:
-            from .summary import summary
+            from .report.summary import summary
 
             click.echo(summary(result, out))
         elif ctx.obj["q"] < 2 and result.attributes.get("validity_warning"):  # part of the result: only -qq hides it
@@ -166,7 +167,7 @@ def check(case_file):
     def action():
         from .case import case_to_toml, load_case
         from .pipeline import check_gross_sliding, plan
-        from .resources import check_resources
+        from .pipeline.resources import check_resources
 
         _imported()
         case = load_case(case_file)
@@ -208,13 +209,13 @@ def plot(result_file, output, show, stresses, overwrite):
     """Plot a result or sweep file (default output: the file's name with .png)."""
 
     def action():
-        from . import outputs
-        from .plot import FORMATS, plot_file
+        from .files import outputs
+        from .report.plot import FORMATS, plot_file
 
         _imported()
         draw, stem = plot_file, os.path.splitext(result_file)[0]
         if stresses:
-            from .plot_stresses import plot_stress_file as draw
+            from .report.plot_stresses import plot_stress_file as draw
 
             stem += "_stresses"
         if not os.path.exists(result_file):
@@ -244,9 +245,9 @@ def export(result_file, output, fields, overwrite):
     """Write the summary table of a result or sweep file (one row per case) as CSV."""
 
     def action():
-        from . import outputs
-        from .export import export as write_tables
-        from .export import fields_path
+        from .files import outputs
+        from .files.export import export as write_tables
+        from .files.export import fields_path
 
         _imported()
         if not os.path.exists(result_file):
@@ -296,10 +297,10 @@ def table(ctx, case_file, output, tolerance, span, friction, overwrite, no_cache
     """Tabulate Q/(mu P) against xi R*/(mu a) for CASE_FILE, sampled adaptively (rolling_cli.table.load reads it)."""
 
     def action():
-        from . import outputs
         from . import table as table_file
         from .case import load_case
-        from .tabulate import build, build_friction, check_request
+        from .files import outputs
+        from .study.tabulate import build, build_friction, check_request
 
         _imported()
         lo, hi = _span(span)
@@ -389,14 +390,14 @@ def sweep(
 ):
     """Solve CASE_FILE for every combination of swept values (or its [sweep] table)."""
     # Over 80 lines for a reason: one click command whose eleven options each map to one argument of
-    # rolling_cli.sweep.run, with the one-line refusal of each meaningless combination next to the
+    # rolling_cli.study.sweep.run, with the one-line refusal of each meaningless combination next to the
     # option it names; split, the refusals would sit far from their options.
 
     def action():
-        from . import outputs
-        from . import sweep as sweeps
         from .case import load_case
         from .case.io import read_toml
+        from .files import outputs
+        from .study import sweep as sweeps
 
         _imported()
         base = load_case(case_file)
@@ -407,7 +408,7 @@ def sweep(
         if zipped and not settings:
             raise CaseError("--zip without --set; allowed: --zip pairs the values of two or more --set keys")
         if curve and settings:
-            from .families import family_spec
+            from .study.families import family_spec
 
             spec = family_spec(base, curve, points, sweeps.spec_from_options(list(settings), zipped))
         elif curve:
@@ -444,7 +445,7 @@ def sweep(
         except KeyboardInterrupt:
             _fail(f"interrupted: the cases finished so far are in {out} (continue with --resume)", 130)
         if figure:
-            from .plot import plot_file
+            from .report.plot import plot_file
 
             plot_file(out, figure)
         where = f"on {scheduler}" if scheduler else f"with {count} worker(s)"

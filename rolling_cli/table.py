@@ -1,6 +1,6 @@
 """Creep-force tables: the file and its interpolant (issue 24 items 2-3), for use inside other programs.
 
-A table (``rollc table CASE -o table.h5``, built by :mod:`rolling_cli.tabulate`)
+A table (``rollc table CASE -o table.h5``, built by :mod:`rolling_cli.study.tabulate`)
 holds Q/(mu P) and its derivative at nodes of one axis, the creepage normalised
 as u = xi R*/(mu a) with its sign (a the case's contact scale, the Hertz
 half-width under a load on two half-spaces), sampled until the cubic Hermite

@@ -79,7 +79,7 @@ def random_case(
     Body A is rigid when ``rigid_a`` (its modulus and ratio then unused); B is
     always elastic. Loaded by P and Q/(mu P).
     """
-    from rolling_cli import materials
+    from rolling_cli.model import materials
 
     body_a = (
         {"kind": "rigid", "radius": radius_a}

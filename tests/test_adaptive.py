@@ -18,10 +18,10 @@ from helpers import assert_contact_laws, assert_force_balance, case_dict, dissim
 from rolling_cli.adapt import kinks, levels, transfer
 from rolling_cli.case import with_overrides
 from rolling_cli.errors import CaseError
-from rolling_cli.estimate import add_error_estimate
-from rolling_cli.grid import ContactGrid
+from rolling_cli.model.grid import ContactGrid
+from rolling_cli.pipeline.estimate import add_error_estimate
 from rolling_cli.references import carter, hertz
-from rolling_cli.summary import summary
+from rolling_cli.report.summary import summary
 
 Q = 0.51
 CASES = Path(__file__).resolve().parents[1] / "cases"

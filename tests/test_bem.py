@@ -4,12 +4,12 @@ import numpy as np
 import pytest
 
 from helpers import case_dict, solve
-from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import bem
 from rolling_cli.influence.bem import assembly, collinear, condense, farfield, symmetry
 from rolling_cli.influence.bem.elements import evaluate, gauss, lagrange_coefficients, map_points
 from rolling_cli.influence.bem.kelvin import displacement_kernel, traction_kernel
 from rolling_cli.influence.bem.mesh import rectangle
+from rolling_cli.model.grid import ContactGrid
 from rolling_cli.references import carter, hertz
 
 E = 2.0e5

@@ -254,7 +254,7 @@ def test_a_second_writer_of_one_output_is_refused_at_once(tmp_path, command):
         [
             sys.executable,
             "-c",
-            "import sys, time; from rolling_cli import outputs\n"
+            "import sys, time; from rolling_cli.files import outputs\n"
             f"with outputs.claim({str(out)!r}):\n    print('locked', flush=True); time.sleep(60)",
         ],
         stdout=subprocess.PIPE,

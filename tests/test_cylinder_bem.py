@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 from scipy.integrate import cumulative_trapezoid
 
-from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import halfplane
 from rolling_cli.influence.bem import cylinder
 from rolling_cli.influence.bem.symmetry import mirror_nodes
+from rolling_cli.model.grid import ContactGrid
 from rolling_cli.model.shapes import Cylinder, HalfSpace, covered
 from rolling_cli.references import annulus, hertz
 

@@ -3,8 +3,8 @@
 import pytest
 
 from helpers import case_dict, run_cli, without_timings, write_case
-from rolling_cli import sweep
 from rolling_cli.case import load_case
+from rolling_cli.study import sweep
 
 pytest.importorskip("distributed")
 xr = pytest.importorskip("xarray")

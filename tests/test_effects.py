@@ -105,7 +105,7 @@ def test_auto_influence_picks_the_closed_form_where_it_is_exact(label, dotted, m
     "half-plane" force a model. The choice and its reason are in the effects (JSON and the
     summary line), and the result's ``influence`` attribute is the resolved model."""
     from rolling_cli import load_case
-    from rolling_cli.effects import decide
+    from rolling_cli.pipeline.effects import decide
 
     data = case_dict(**{"discretization.influence": None, **dotted})
     effects = decide(load_case(data))
@@ -148,8 +148,9 @@ def test_bem_half_spaces_with_beta_zero_are_decoupled():
 
 
 def test_error_estimate_reports_nan_and_why_when_no_comparison_mesh_solves(monkeypatch):
-    from rolling_cli import estimate, load_case
+    from rolling_cli import load_case
     from rolling_cli.errors import ConvergenceError
+    from rolling_cli.pipeline import estimate
 
     case = load_case(case_dict(**{"discretization.contact_elements": 20}))
     result = solve(case_dict(**{"discretization.contact_elements": 20}))

@@ -10,12 +10,12 @@ import pytest
 
 import rolling_cli
 from helpers import case_dict, run_cli, solve, write_case
-from rolling_cli import sweep
 from rolling_cli.case import load_case
-from rolling_cli.io_hdf5 import write_result
-from rolling_cli.reader import case_table, cases_complete
-from rolling_cli.rows import row_from_result
-from rolling_cli.writer import ResultFile
+from rolling_cli.files.io_hdf5 import write_result
+from rolling_cli.files.reader import case_table, cases_complete
+from rolling_cli.files.rows import row_from_result
+from rolling_cli.files.writer import ResultFile
+from rolling_cli.study import sweep
 
 DATA = Path(__file__).parent / "data"
 SMALL = case_dict(**{"discretization.contact_elements": 40})

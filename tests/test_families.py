@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from helpers import case_dict, run_cli, write_case
-from rolling_cli import families, sweep
 from rolling_cli.case import load_case
 from rolling_cli.errors import CaseError
-from rolling_cli.plot import plot_file
-from rolling_cli.reader import case_table, read_case
+from rolling_cli.files.reader import case_table, read_case
 from rolling_cli.references import carter
+from rolling_cli.report.plot import plot_file
+from rolling_cli.study import families, sweep
 
 SMALL = case_dict(**{"discretization.contact_elements": 40})
 MUS = (0.1, 0.3, 0.5)

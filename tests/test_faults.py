@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from helpers import case_dict, without_timings, write_case
-from rolling_cli import sweep
 from rolling_cli.case import load_case
-from rolling_cli.reader import case_table, cases_complete
+from rolling_cli.files.reader import case_table, cases_complete
+from rolling_cli.study import sweep
 
 SMALL = case_dict(**{"discretization.contact_elements": 40})
 linux = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="/proc and RLIMIT_FSIZE semantics of Linux")
@@ -81,7 +81,7 @@ def test_a_full_disk_during_a_sweep_keeps_the_committed_cases(tmp_path):
     args = ["-q", "sweep", case, "--set", spec, "--workers", 1]
     out = tmp_path / "s.h5"
     small_steps = (
-        "import rolling_cli.writer as w, rolling_cli.sweep as s\n"
+        "import rolling_cli.files.writer as w, rolling_cli.study.sweep as s\n"
         "w.PREALLOCATE, w.FIRST_ROWS, s.COMMIT_SHARE = 0, 16, 1e9  # small steps, a commit after every case"
     )
     # measured reservations: ~650 kB for the 16-row file, ~1.2 MB for the 64-row one; the limit lies between

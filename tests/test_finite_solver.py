@@ -163,7 +163,7 @@ def test_half_space_warning_names_the_finite_model():
     """Above a/R = 0.1 the half-space warning points to shape = "cylinder" with the error map's
     estimate; a finite cylinder gets no warning at any a/R (its geometry is exact)."""
     from rolling_cli.case import load_case
-    from rolling_cli.validity import half_space_check
+    from rolling_cli.model.validity import half_space_check
 
     body = _cylinder(5.0, 2.0, young=10.0)
     half = load_case(_case(_half_space(body), RIGID_FLAT, 1.0, 20))

@@ -322,7 +322,7 @@ def assert_contact_laws_with_law(result) -> None:
 
 
 def test_summary_says_q_is_normalised_by_mu_static():
-    from rolling_cli.summary import summary
+    from rolling_cli.report.summary import summary
 
     result = solve(law_case(CARTER, EXPONENTIAL, **SMALL, **{"tangential.creep": -0.002}))
     text = summary(result)

@@ -8,12 +8,12 @@ import pytest
 
 import rolling_cli
 from helpers import assert_contact_laws, assert_force_balance, case_dict
-from rolling_cli.adapt import explicit, grading, kinks
-from rolling_cli.grid import ContactGrid
+from rolling_cli.adapt import grading, kinks
 from rolling_cli.influence import bem, build, cache
 from rolling_cli.influence.bem import symmetry
 from rolling_cli.influence.bem.mesh import graded_edges
-from rolling_cli.pipeline import measured_plan
+from rolling_cli.model.grid import ContactGrid
+from rolling_cli.pipeline import explicit, measured_plan
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 E, NU = 2.0e5, 0.3

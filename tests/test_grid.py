@@ -9,11 +9,11 @@ use randomly graded grids.
 import numpy as np
 import pytest
 
-from rolling_cli import slip
-from rolling_cli.grid import NODE_COORDINATES, ContactGrid, node_cell_edges, shape_integrals
 from rolling_cli.influence import halfplane
+from rolling_cli.model import slip
+from rolling_cli.model.grid import NODE_COORDINATES, ContactGrid, node_cell_edges, shape_integrals
 from rolling_cli.result import state_zones
-from rolling_cli.system import PENALTY_BAND, automatic_penalties
+from rolling_cli.solver.system import PENALTY_BAND, automatic_penalties
 
 EPS = np.finfo(float).eps
 

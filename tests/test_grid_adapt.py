@@ -8,8 +8,8 @@ import pytest
 import rolling_cli
 from helpers import case_dict
 from rolling_cli.adapt import grading, indicator, kinks, refine, remesh, transfer
-from rolling_cli.adapt.explicit import solve_on_grid
-from rolling_cli.grid import ContactGrid
+from rolling_cli.model.grid import ContactGrid
+from rolling_cli.pipeline.explicit import solve_on_grid
 from rolling_cli.references import carter
 
 EPS = np.finfo(float).eps

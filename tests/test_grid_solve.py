@@ -15,9 +15,9 @@ import pytest
 
 import rolling_cli
 from helpers import CARTER, assert_contact_laws, assert_force_balance, case_dict, dissimilar
-from rolling_cli.adapt.explicit import solve_on_grid
 from rolling_cli.adapt.grading import graded_grid
-from rolling_cli.grid import ContactGrid
+from rolling_cli.model.grid import ContactGrid
+from rolling_cli.pipeline.explicit import solve_on_grid
 from rolling_cli.references import carter, hertz
 
 Q = 0.51

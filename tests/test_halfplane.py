@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rolling_cli import materials
-from rolling_cli.grid import NODE_COORDINATES, ContactGrid, shape_coefficients
 from rolling_cli.influence import combine, halfplane
-from rolling_cli.kernels import log_moments
+from rolling_cli.model import materials
+from rolling_cli.model.grid import NODE_COORDINATES, ContactGrid, shape_coefficients
+from rolling_cli.model.kernels import log_moments
 
 
 def _shape(grid, j, s):

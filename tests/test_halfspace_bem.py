@@ -9,10 +9,10 @@ import pytest
 import rolling_cli
 from helpers import case_dict, dissimilar, run_cli, solve, write_case
 from rolling_cli.case import with_overrides
-from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import bem, build, halfplane
 from rolling_cli.influence.bem import farfield
 from rolling_cli.influence.bem.elements import evaluate, gauss, lagrange_coefficients, map_points
+from rolling_cli.model.grid import ContactGrid
 from rolling_cli.pipeline import plan
 from rolling_cli.references import approach, hertz
 

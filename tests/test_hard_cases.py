@@ -26,10 +26,11 @@ from helpers import (
     random_case,
     solve,
 )
-from rolling_cli import materials, sweep
 from rolling_cli.case import load_case
 from rolling_cli.errors import ZoneError
+from rolling_cli.model import materials
 from rolling_cli.references import carter
+from rolling_cli.study import sweep
 
 R_STAR = 50.0
 

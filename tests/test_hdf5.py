@@ -10,11 +10,12 @@ import numpy as np
 import pytest
 
 from helpers import CARTER, case_dict, dissimilar, solve
-from rolling_cli import blas, sweep
+from rolling_cli import blas
 from rolling_cli.case import load_case
-from rolling_cli.io_hdf5 import read_result, write_result
-from rolling_cli.rows import GROUP_HOOKS, GroupHook, Row, row_from_result
-from rolling_cli.writer import ResultFile
+from rolling_cli.files.io_hdf5 import read_result, write_result
+from rolling_cli.files.rows import GROUP_HOOKS, GroupHook, Row, row_from_result
+from rolling_cli.files.writer import ResultFile
+from rolling_cli.study import sweep
 
 xr = pytest.importorskip("xarray")
 pytest.importorskip("h5netcdf")
@@ -244,10 +245,10 @@ def test_files_honour_the_umask(tmp_path):
 
 
 def test_low_level_attributes_are_the_ones_h5py_writes(tmp_path):
-    """The writer's attribute path (:func:`rolling_cli.storage.set_attrs`, types derived once) gives
+    """The writer's attribute path (:func:`rolling_cli.files.storage.set_attrs`, types derived once) gives
     every attribute the HDF5 type, shape and value that ``obj.attrs[name] = value`` gives, replaces an
     existing one, and leaves other kinds of value (bool, lists) to h5py."""
-    from rolling_cli.storage import set_attrs
+    from rolling_cli.files.storage import set_attrs
 
     values = {
         "text": "contact half-width",
@@ -291,9 +292,9 @@ def _string_kind(attr) -> tuple | None:
 
 
 def test_low_level_datasets_are_the_ones_h5py_creates(tmp_path):
-    """The writer's contiguous numeric datasets (:func:`rolling_cli.storage.contiguous`) have the
+    """The writer's contiguous numeric datasets (:func:`rolling_cli.files.storage.contiguous`) have the
     type, shape, layout, fill value and creation properties of ``create_dataset``'s."""
-    from rolling_cli.storage import contiguous
+    from rolling_cli.files.storage import contiguous
 
     def properties(ds) -> tuple:
         dcpl = ds.id.get_create_plist()

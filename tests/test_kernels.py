@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rolling_cli.kernels import log_moments, sign_moments
+from rolling_cli.model.kernels import log_moments, sign_moments
 
 POINTS = [-7.5, -2.0001, -2.0, -1.0, -2 / 3, -0.3, 0.0, 2 / 3, 1.0, 1.5, 2.0001, 40.0]
 

@@ -15,12 +15,12 @@ import pytest
 from helpers import case_dict, dissimilar
 from rolling_cli import pipeline
 from rolling_cli.case import load_case
-from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import build, halfplane
+from rolling_cli.model.grid import ContactGrid
 from rolling_cli.solver import coarse, formulation, krylov, matrix_free, near_field, reduced
 from rolling_cli.solver.banded import BorderedBandLU, SparseLU
 from rolling_cli.solver.formulation import State
-from rolling_cli.system import build_system
+from rolling_cli.solver.system import build_system
 
 EPS = np.finfo(float).eps
 

@@ -15,10 +15,10 @@ from hypothesis import HealthCheck, event, given, seed, settings
 from hypothesis import strategies as st
 
 from helpers import CARTER, assert_contact_laws, case_dict, dissimilar, run_cli
-from rolling_cli import resources
 from rolling_cli.case import load_case
 from rolling_cli.errors import CaseError
-from rolling_cli.io_hdf5 import read_result
+from rolling_cli.files.io_hdf5 import read_result
+from rolling_cli.pipeline import resources
 
 SMALL = {"discretization.contact_elements": 20}
 BASES = [

@@ -165,8 +165,9 @@ def test_a_file_with_fixed_length_text_is_read_and_resumed_into_one_netcdf_c_rea
     """tests/data/v2_fixed_text.h5: a sweep (friction.mu = 0.1, 0.2, 0.3) that rollc 0.1's writer left
     after one case, its text fixed-length. rolling_cli reads it; ``--resume`` rewrites it: the two other
     cases added, text variable-length, the missing long_name/units added, and netCDF-C reads it."""
-    from rolling_cli import read_result, sweep
+    from rolling_cli import read_result
     from rolling_cli.case import load_case
+    from rolling_cli.study import sweep
 
     path = tmp_path / "old.h5"
     path.write_bytes((Path(__file__).parent / "data" / "v2_fixed_text.h5").read_bytes())

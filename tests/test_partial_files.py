@@ -21,9 +21,9 @@ import numpy as np
 import pytest
 
 from helpers import case_dict, solve, write_case
-from rolling_cli.reader import cases_complete
-from rolling_cli.rows import Row, row_from_result
-from rolling_cli.writer import ResultFile
+from rolling_cli.files.reader import cases_complete
+from rolling_cli.files.rows import Row, row_from_result
+from rolling_cli.files.writer import ResultFile
 
 xr = pytest.importorskip("xarray")
 pytest.importorskip("h5netcdf")

@@ -19,11 +19,12 @@ import numpy as np
 import pytest
 
 from helpers import assert_contact_laws, case_dict, solve
-from rolling_cli import pipeline, sweep
+from rolling_cli import pipeline
 from rolling_cli.case import load_case, with_overrides
-from rolling_cli.path import result_state
 from rolling_cli.pipeline import solve as solve_case
 from rolling_cli.solver import strategies
+from rolling_cli.study import sweep
+from rolling_cli.study.path import result_state
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 

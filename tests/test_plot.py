@@ -6,11 +6,11 @@ import pytest
 from click.testing import CliRunner
 
 from helpers import case_dict, dissimilar, solve
-from rolling_cli import sweep
 from rolling_cli.case import load_case
 from rolling_cli.cli import main
-from rolling_cli.io_hdf5 import write_result
-from rolling_cli.plot import plot_file
+from rolling_cli.files.io_hdf5 import write_result
+from rolling_cli.report.plot import plot_file
+from rolling_cli.study import sweep
 
 SMALL = case_dict(**{"discretization.contact_elements": 40})
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from helpers import case_dict, run_cli, write_case
-from rolling_cli.layout import SCALARS
-from rolling_cli.reader import case_table, read_result
+from rolling_cli.files.layout import SCALARS
+from rolling_cli.files.reader import case_table, read_result
 from rolling_cli.result import QUANTITIES, Result
 from rolling_cli.result.quantities import UNIT_KEYS
 from rolling_cli.stresses.report import INDICATORS

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from rolling_cli import materials
+from rolling_cli.model import materials
 from rolling_cli.references import carter, hertz
 
 

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from helpers import case_dict, dissimilar, run_cli, write_case
-from rolling_cli import machine, resources
 from rolling_cli.case import load_case
 from rolling_cli.errors import CaseError
-from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import bem, halfplane
+from rolling_cli.model.grid import ContactGrid
+from rolling_cli.pipeline import machine, resources
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 
@@ -111,7 +111,7 @@ def _limited(case_path, *args, limit_mb: int) -> subprocess.CompletedProcess:
     what it holds after its imports (a real ``ulimit -v``)."""
     code = f"""
 import resource, sys
-import scipy.optimize, rolling_cli.pipeline, rolling_cli.io_hdf5, rolling_cli.summary  # before the limit
+import scipy.optimize, rolling_cli.pipeline, rolling_cli.files.io_hdf5, rolling_cli.report.summary  # before the limit
 from rolling_cli.cli import main
 used = next(int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmSize:")) * 1024
 resource.setrlimit(resource.RLIMIT_AS, (used + {limit_mb} * 2**20, resource.getrlimit(resource.RLIMIT_AS)[1]))

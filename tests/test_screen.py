@@ -6,7 +6,7 @@ from __future__ import annotations
 import re
 
 from helpers import dissimilar, solve
-from rolling_cli.summary import WIDTH, summary
+from rolling_cli.report.summary import WIDTH, summary
 
 
 def test_one_beta_on_screen_named_dundurs(tmp_path):
@@ -26,17 +26,17 @@ def test_effects_one_line_each_and_no_wide_lines():
     result = solve(dissimilar(**{"discretization.contact_elements": 40}))
     lines = summary(result, output="some/where.h5").splitlines()
     first = next(i for i, line in enumerate(lines) if line.startswith("  effects"))
-    effect_lines = [lines[first]] + [
-        line for line in lines[first + 1 :] if line.startswith(" " * 17) and ": " in line
-    ][:4]
+    effect_lines = [lines[first]] + [line for line in lines[first + 1 :] if line.startswith(" " * 17) and ": " in line][
+        :4
+    ]
     names = [line.strip().removeprefix("effects").strip().split(":")[0] for line in effect_lines]
     assert names[:4] == ["coupling", "tangential", "normal", "influence"]
     assert max(len(line) for line in lines) <= WIDTH
 
 
 def test_result_plot_has_band_legend(tmp_path):
-    from rolling_cli.io_hdf5 import write_result
-    from rolling_cli.plot import plot_file
+    from rolling_cli.files.io_hdf5 import write_result
+    from rolling_cli.report.plot import plot_file
 
     path = tmp_path / "r.h5"
     write_result(solve(dissimilar(**{"discretization.contact_elements": 40})), path)

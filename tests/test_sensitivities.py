@@ -20,7 +20,7 @@ from sensitivity_checks import TOLERANCE, check_case, is_finite
 from helpers import case_dict, dissimilar, run_cli, write_case
 from rolling_cli import pipeline
 from rolling_cli.case import load_case
-from rolling_cli.layout import units_of
+from rolling_cli.files.layout import units_of
 from rolling_cli.references import carter
 from rolling_cli.solver import reduced, sensitivity
 from rolling_cli.solver.formulation import Problem, State, evaluate, node_sets, traction_scales

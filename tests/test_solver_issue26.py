@@ -18,8 +18,9 @@ import numpy as np
 import pytest
 
 from helpers import assert_contact_laws, assert_force_balance, case_dict, solve
-from rolling_cli import materials, pipeline
+from rolling_cli import pipeline
 from rolling_cli.case import load_case
+from rolling_cli.model import materials
 from rolling_cli.solver import formulation, reduced, strategies
 from rolling_cli.solver.budget import Budget
 from rolling_cli.solver.formulation import State

@@ -69,7 +69,7 @@ def test_half_plane_solve_imports_no_bem_nor_plotting(tmp_path, case):
     modules = _run(tmp_path, "-q", "solve", str(CASES / case), "-o", "result.h5")
     assert (tmp_path / "result.h5").is_file()
     # what this path does need is there: the check sees the real solve and write
-    assert {"rolling_cli.influence.halfplane", "rolling_cli.pipeline", "rolling_cli.writer", "h5py"} <= modules
+    assert {"rolling_cli.influence.halfplane", "rolling_cli.pipeline", "rolling_cli.files.writer", "h5py"} <= modules
     if case == "carter_stresses.toml":
         assert "rolling_cli.stresses.halfplane" in modules
     for package in HEAVY:

@@ -21,7 +21,7 @@ from scipy.integrate import quad
 from helpers import case_dict
 from rolling_cli import pipeline
 from rolling_cli.case import load_case
-from rolling_cli.grid import ContactGrid, shape_coefficients
+from rolling_cli.model.grid import ContactGrid, shape_coefficients
 from rolling_cli.references import hertz, mcewen, smith_liu
 from rolling_cli.stresses import halfplane, invariants
 

@@ -4,12 +4,13 @@ import numpy as np
 import pytest
 
 from helpers import case_dict
-from rolling_cli import materials, pipeline
+from rolling_cli import pipeline
 from rolling_cli.case import load_case
 from rolling_cli.influence import build
 from rolling_cli.influence.bem import kelvin
 from rolling_cli.influence.bem.elements import map_points
 from rolling_cli.influence.bem.mesh import rectangle
+from rolling_cli.model import materials
 from rolling_cli.references import carter, hertz
 from rolling_cli.stresses import bem, compute, halfplane
 

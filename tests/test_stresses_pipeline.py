@@ -69,7 +69,7 @@ def test_without_the_table_nothing_runs_and_nothing_is_imported(tmp_path):
         "import sys, rolling_cli, json\n"
         f"r = rolling_cli.solve({str(path)!r})\n"
         f"rolling_cli.write_result(r, {str(tmp_path / 'r.h5')!r})\n"
-        "from rolling_cli.summary import summary; summary(r)\n"
+        "from rolling_cli.report.summary import summary; summary(r)\n"
         "print(json.dumps([m for m in sys.modules if m.startswith('rolling_cli.stresses')]))\n"
         "print(json.loads(r.effects)['notes']['stresses'])\n"
     )
@@ -125,7 +125,7 @@ def test_result_file_layout_read_back_and_summary(tmp_path):
     )
     notes = json.loads(attrs["effects"])["notes"]
     assert notes["stresses"] == "simulated: A (half-plane), B (half-plane), 41 x 21 points"
-    from rolling_cli.summary import summary
+    from rolling_cli.report.summary import summary
 
     text = summary(back, str(path))
     for label in ("von Mises", "Tresca", "orth. shear", "surface sxx", "friction power", "stresses"):
@@ -183,7 +183,7 @@ def test_plot_option_errors_are_one_line_exit_2(tmp_path):
 
 
 def test_sweeps_carry_the_per_case_maxima(tmp_path):
-    from rolling_cli import sweep
+    from rolling_cli.study import sweep
 
     base = load_case(_case(stresses=SMALL))
     spec = sweep.spec_from_options(["tangential.q_over_mu_p=0.2,0.6"], False)
@@ -211,7 +211,7 @@ def test_grid_sequencing_and_error_estimates_do_not_compute_stresses_twice(monke
     case = load_case(_case(**{"bodies.A": aluminium, "discretization.contact_elements": 240}, stresses=SMALL))
     result = pipeline.solve(case)  # coupled, >= 240 elements: starts from a solve on 60 elements
     assert any(row.get("level") == "coarse grid" for row in result.history)
-    from rolling_cli.estimate import add_error_estimate
+    from rolling_cli.pipeline.estimate import add_error_estimate
 
     add_error_estimate(case, result)
     assert calls == [240]

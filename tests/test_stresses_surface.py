@@ -18,7 +18,7 @@ from scipy.integrate import quad
 from helpers import ALUMINIUM, STEEL, case_dict
 from rolling_cli import pipeline
 from rolling_cli.case import load_case
-from rolling_cli.grid import ContactGrid
+from rolling_cli.model.grid import ContactGrid
 from rolling_cli.references import carter, carter_surface, hertz, smith_liu
 from rolling_cli.stresses import invariants, report, surface
 

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from helpers import CARTER, case_dict, run_cli, without_timings, write_case
-from rolling_cli import sweep
 from rolling_cli.case import load_case
 from rolling_cli.errors import CaseError
-from rolling_cli.reader import case_table, cases_complete
+from rolling_cli.files.reader import case_table, cases_complete
+from rolling_cli.study import sweep
 
 CASES = Path(__file__).resolve().parents[1] / "cases"
 SMALL = case_dict(**{"discretization.contact_elements": 40})
@@ -149,7 +149,7 @@ SHIPPED = Path(__file__).resolve().parent.parent / "cases"
 _LATE_BLAS = """
 import sys
 from threadpoolctl import threadpool_info
-from rolling_cli import blas, sweep
+from rolling_cli import blas; from rolling_cli.study import sweep
 from rolling_cli.case import load_case
 base = load_case(sys.argv[1])
 sweep.run(base, sweep.curve_spec(base, "load", 3), sys.argv[2], workers=1)
@@ -359,7 +359,8 @@ def test_shipped_sweep_case(tmp_path):
 def test_a_case_beyond_the_memory_is_refused_before_any_solve(monkeypatch, tmp_path):
     """rollc solve's memory check runs on every contact system of a sweep first: the case that does
     not fit is named by its key and value, before anything is solved."""
-    from rolling_cli import pipeline, resources
+    from rolling_cli import pipeline
+    from rolling_cli.pipeline import resources
 
     base = load_case(case_dict(SMALL))
     small = resources.estimate(base).bytes

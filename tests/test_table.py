@@ -18,7 +18,7 @@ import pytest
 from helpers import case_dict, run_cli, write_case
 from rolling_cli import pipeline, table
 from rolling_cli.case import load_case
-from rolling_cli.tabulate import build
+from rolling_cli.study.tabulate import build
 
 ROOT = Path(__file__).resolve().parents[1]
 CARTER = case_dict(**{"discretization.contact_elements": 60})
@@ -155,7 +155,7 @@ def test_friction_axis_on_carter(tmp_path):
     discrete problem is homogeneous in (mu, xi)), so the slopes in mu vanish (to rounding, 1e-9 of
     the slopes in u) and every row is the same curve; the table reproduces direct solves at random
     (u, mu) within its tolerance; written and loaded it gives the same values; mu outside raises."""
-    from rolling_cli.tabulate import build_friction
+    from rolling_cli.study.tabulate import build_friction
 
     case = load_case(CARTER)
     made, errors = build_friction(case, -1.0, 1.0, 0.05, 0.3, 1e-3)
@@ -193,7 +193,7 @@ def test_a_jump_is_not_bisected_forever(monkeypatch):
     its estimate and that it did not meet the tolerance."""
     from types import SimpleNamespace
 
-    from rolling_cli import tabulate
+    from rolling_cli.study import tabulate
 
     case = load_case(CARTER)
     the_plan, system = pipeline.prepare(case)

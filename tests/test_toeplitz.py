@@ -11,11 +11,11 @@ times max_i sum_j |M_ij p_j|.
 import numpy as np
 import pytest
 
-from rolling_cli import slip
-from rolling_cli.grid import ContactGrid
 from rolling_cli.influence import halfplane
 from rolling_cli.influence.toeplitz import BlockToeplitz, apply_sum, products
-from rolling_cli.system import automatic_penalties
+from rolling_cli.model import slip
+from rolling_cli.model.grid import ContactGrid
+from rolling_cli.solver.system import automatic_penalties
 
 EPS = np.finfo(float).eps
 

@@ -6,9 +6,9 @@ import math
 import pytest
 
 from helpers import STEEL, case_dict, run_cli, solve, write_case
-from rolling_cli.io_hdf5 import read_result
+from rolling_cli.files.io_hdf5 import read_result
+from rolling_cli.model.validity import HALF_SPACE_LIMIT
 from rolling_cli.references import hertz
-from rolling_cli.validity import HALF_SPACE_LIMIT
 
 
 def test_steel_carter_is_inside():
@@ -41,7 +41,7 @@ def test_rubber_roller_on_steel_is_flagged(tmp_path):
 def test_flat_and_most_curved_body():
     """The ratio uses the most curved body; a flat does not count; no contact gives NaN."""
     from rolling_cli.case import load_case
-    from rolling_cli.validity import half_space_check
+    from rolling_cli.model.validity import half_space_check
 
     case = load_case(case_dict(**{"bodies.A.radius": 5.0, "bodies.B.radius": "inf"}))
     found = half_space_check(case, 1.0)

@@ -154,8 +154,8 @@ def test_quadratic_kernels_match_quadrature_and_sum_to_the_constant_element(b):
     the hereditary integral of the elastic quadratic-element kernels (1e-9 of the element length:
     quad's tolerance summed over the pieces), and summed over an element's three shape functions
     (a partition of unity) equal to the constant-element closed form to round-off (1e-13 h)."""
-    from rolling_cli.grid import ContactGrid, shape_coefficients, shape_integrals
     from rolling_cli.influence.halfplane import _length_scale, _local_coordinates
+    from rolling_cli.model.grid import ContactGrid, shape_coefficients, shape_integrals
 
     grid = ContactGrid(1.0, 10, 2)
     half, length = 0.5 * grid.element_length, _length_scale(grid)
@@ -198,7 +198,7 @@ def test_quadratic_kernels_match_quadrature_and_sum_to_the_constant_element(b):
 def test_operators_give_the_dense_blocks_products():
     """The non-symmetric viscoelastic blocks as block-Toeplitz operators (the matrix-free path)
     multiply like the dense ones (round-off of the FFT: 1e-12 of the product's scale)."""
-    from rolling_cli.grid import ContactGrid
+    from rolling_cli.model.grid import ContactGrid
 
     grid = ContactGrid(3.0, 64, 0)
     model = viscoelastic.standard_linear_solid(20.0, 10.0, 0.01, 0.3)
@@ -393,7 +393,7 @@ def test_speed_sweep_of_the_shipped_roller_peaks_near_v_tau_a(tmp_path):
     elements and the lowest speed, halving with h, measured)."""
     import h5py
 
-    from rolling_cli.reader import case_table
+    from rolling_cli.files.reader import case_table
 
     case = load_case(SHIPPED)
     a_r = float(solve(case).mesh_half_width)

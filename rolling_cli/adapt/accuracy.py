@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..grid import ContactGrid
+from ..model.grid import ContactGrid
 from . import indicator, kinks
 
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..grid import ContactGrid
+from ..model.grid import ContactGrid
 
 
 def _size_integral(d: np.ndarray, smallest: float, largest: float, rate: float) -> np.ndarray:

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..grid import ContactGrid, shape_coefficients
+from ..model.grid import ContactGrid, shape_coefficients
 
 
 def edge_values(grid: ContactGrid, values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -135,7 +135,7 @@ def stick_slip_boundaries(x: np.ndarray, p_n: np.ndarray, p_t: np.ndarray, state
 def locate_kinks(result, grid=None) -> tuple[np.ndarray, np.ndarray]:
     """Every contact edge and stick/slip boundary of a solved :class:`~rolling_cli.result.Result`.
 
-    ``grid`` (its :class:`~rolling_cli.grid.ContactGrid`) lets the contact edges
+    ``grid`` (its :class:`~rolling_cli.model.grid.ContactGrid`) lets the contact edges
     use the gap where that is reliable (:func:`contact_edges`). Returns
     (positions [length], kinds), sorted by position; kinds are
     :data:`CONTACT_EDGE` or :data:`STICK_SLIP`.

@@ -42,7 +42,7 @@ from typing import Any
 
 import numpy as np
 
-from ..grid import ContactGrid
+from ..model.grid import ContactGrid
 from ..solver.formulation import State
 from . import accuracy, kinks, remesh, transfer
 from .accuracy import LevelFields

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..grid import ContactGrid
+from ..model.grid import ContactGrid
 
 
 def split_counts(indicator: np.ndarray, target: float, rate: float = 0.5, max_split: int = 16) -> np.ndarray:

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..grid import ContactGrid
+from ..model.grid import ContactGrid
 from . import kinks as kinks_mod
 from .grading import graded_edges
 from .refine import desired_lengths, limit_lengths

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..grid import NODE_COORDINATES, ContactGrid, shape_coefficients
+from ..model.grid import NODE_COORDINATES, ContactGrid, shape_coefficients
 
 #: Old node spacings by which a located contact edge is pulled into the contact.
 EDGE_MARGIN = 0.3

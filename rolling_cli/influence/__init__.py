@@ -51,7 +51,7 @@ class Compliance:
     S_nt: Block | None = None
     S_tn: Block | None = None
     definite_normal: bool = False
-    #: Finite bodies (:mod:`rolling_cli.model.finite`): the exact undeformed gap [length] (None: the
+    #: Finite bodies (:mod:`rolling_cli.influence.finite`): the exact undeformed gap [length] (None: the
     #: parabola x^2 / 2R*), and the curved surfaces' relative hoop strain -(w_A/R_A - w_B/R_B) per unit
     #: p_n and p_t [1/stress], which the slip rows add (times the sign of V) to the strain du/ds.
     gap0: np.ndarray | None = None

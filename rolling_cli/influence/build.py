@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..grid import ContactGrid
+from ..model.grid import ContactGrid
 from ..model.viscoelastic import bodies as viscoelastic_bodies
 from ..model.viscoelastic import from_body
 from . import Compliance, combine, halfplane
@@ -65,7 +65,7 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
             inputs = bem_inputs(case, the_plan, body)
             bodies[label], origin[label] = _bem_body(inputs, use_cache)
     if a.finite or b.finite:  # exact geometry and hoop strain of finite cylinders
-        from ..model import finite as _finite
+        from . import finite as _finite
 
         finite_pair = _finite.finite_pair
 

@@ -144,7 +144,7 @@ def _check_shapes(arrays: dict[str, np.ndarray], inputs: dict) -> None:
     if not all(np.isfinite(arrays[name]).all() for name in ("x", "weights", *_BLOCKS)):
         raise InvalidEntry("non-finite values")
     if "zone_half_width" in inputs and "elements" in inputs:
-        from ..grid import ContactGrid
+        from ..model.grid import ContactGrid
 
         if "element_edges" in inputs:  # a graded grid's entry
             grid = ContactGrid.graded(inputs["element_edges"], 2)

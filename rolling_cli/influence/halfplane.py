@@ -10,7 +10,7 @@ c = (1 - 2 nu)(1 + nu) / (2 E):
 (p_n <= 0 in compression). The log kernel leaves a free rigid constant: the
 reference length L only shifts w and u by constants, so the normal approach
 (overlap) of a half-plane is undefined and this model must be loaded by force.
-Element integrals are exact (:mod:`rolling_cli.kernels`) for any element
+Element integrals are exact (:mod:`rolling_cli.model.kernels`) for any element
 length. On a uniform grid each matrix is block-Toeplitz: only the 2 N_e - 1
 element offsets are integrated and the matrix is gathered from them, or, on
 large grids (:func:`use_operators`), kept as a
@@ -27,9 +27,9 @@ import math
 
 import numpy as np
 
-from .. import materials
-from ..grid import NODE_COORDINATES, ContactGrid, shape_coefficients, shape_integrals
-from ..kernels import log_moments, sign_moments
+from ..model import materials
+from ..model.grid import NODE_COORDINATES, ContactGrid, shape_coefficients, shape_integrals
+from ..model.kernels import log_moments, sign_moments
 from . import Compliance
 
 

@@ -239,17 +239,17 @@ class BlockToeplitz:
     # --- the slip operator ----------------------------------------------------------------------
 
     def upwind_derivative(self, spacing: float, direction: int, scheme: str) -> BlockToeplitz:
-        """T @ M for the slip operator T of :func:`rolling_cli.slip.apply_t` [units of M / length].
+        """T @ M for the slip operator T of :func:`rolling_cli.model.slip.apply_t` [units of M / length].
 
         Row i = m e + a of M is the Toeplitz row of the shifted index q = i - m e' + m (N_e - 1)
         for each source element e', so the interior stencil of T (rows i, i +- 1, i +- 2) acts
-        along q on the offset values themselves: :func:`~rolling_cli.slip.apply_t` applied to the
+        along q on the offset values themselves: :func:`~rolling_cli.model.slip.apply_t` applied to the
         (q, k) array gives every interior row's entries with the dense matrix's arithmetic (bit
         for bit). The stencil rows at the gauge end of the zone (the gauge row, and the
         first-order fallback of the second-order scheme) are computed from M's own end rows and
         kept explicitly.
         """
-        from .. import slip
+        from ..model import slip
 
         if self.rows.size:
             raise ValueError("the slip derivative needs a purely Toeplitz matrix")

@@ -49,7 +49,7 @@ import math
 
 import numpy as np
 
-from ..grid import ContactGrid
+from ..model.grid import ContactGrid
 from ..model.viscoelastic import Viscoelastic
 from . import Block, Compliance
 from .halfplane import _length_scale, _toeplitz_gather, use_operators
@@ -183,7 +183,7 @@ def phi_moments(c, beta: float) -> np.ndarray:
     the antiderivatives (:func:`psi_moments`): M_m = beta sum_j C(m, j) c^(m-j) (-beta)^j
     [Psi_j((c + 1)/beta) - Psi_j((c - 1)/beta)]; farther by 12-point Gauss-Legendre on the integrand,
     analytic on the element (its branch point xi = c lies outside the Bernstein ellipse of parameter
-    3.7: error < 1e-14, as :mod:`rolling_cli.kernels`)."""
+    3.7: error < 1e-14, as :mod:`rolling_cli.model.kernels`)."""
     c = np.asarray(c, dtype=float)
     out = np.empty(c.shape + (3,))
     near = np.abs(c) <= 2.0
@@ -237,9 +237,9 @@ def quadratic_offsets(grid: ContactGrid, b: float, length_scale: float) -> tuple
         C_b[int N_k sgn(x - s) ds]    = h sum_m A_km [G_m(c) + 2 sgn(b) X_m(c)],
 
     since C_b[ln|u|] = Phi(u/b) + ln|b| - gamma and C_b[sgn u] = sgn u - 2 sgn(u) e^(u/b) for u/b < 0
-    (M: :func:`phi_moments`, X: :func:`exp_moments`, G: :func:`~rolling_cli.kernels.sign_moments`)."""
-    from ..grid import shape_coefficients, shape_integrals
-    from ..kernels import sign_moments
+    (M: :func:`phi_moments`, X: :func:`exp_moments`, G: :func:`~rolling_cli.model.kernels.sign_moments`)."""
+    from ..model.grid import shape_coefficients, shape_integrals
+    from ..model.kernels import sign_moments
     from .halfplane import _local_coordinates
 
     half = 0.5 * grid.element_length

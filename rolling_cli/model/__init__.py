@@ -8,5 +8,5 @@ them, never the other way round. Friction as a law of the slip speed
 series; the rolling resistance they cause, :mod:`~rolling_cli.model.resistance`),
 the body's shape (:mod:`~rolling_cli.model.shapes`: the half-space of the seed
 paper, or the finite cross-section of a cylinder, hollow on a rigid shaft or
-covered on a rigid core; its exact gap and hoop strain, :mod:`~rolling_cli.model.finite`).
+covered on a rigid core; its exact gap and hoop strain, :mod:`~rolling_cli.influence.finite`).
 """

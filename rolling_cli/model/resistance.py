@@ -44,7 +44,7 @@ QUADRATIC_CELLS = 12
 def quadratic_cells(p: np.ndarray) -> np.ndarray:
     """Cell averages [stress] of the piecewise-quadratic traction with nodal values ``p`` (3 per
     element, local coordinates -2/3, 0, 2/3) on :data:`QUADRATIC_CELLS` equal cells per element."""
-    from ..grid import shape_coefficients
+    from .grid import shape_coefficients
 
     edges = np.linspace(-1.0, 1.0, QUADRATIC_CELLS + 1)
     powers = np.arange(3)
@@ -57,7 +57,7 @@ def quadratic_cells(p: np.ndarray) -> np.ndarray:
 def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) -> dict:
     """The rolling-resistance quantities of a solved viscoelastic case (declared in
     :mod:`rolling_cli.result.quantities`); ``radius`` R* [length], ``system`` its
-    :class:`~rolling_cli.system.ContactSystem` (node positions, weights, spacing)."""
+    :class:`~rolling_cli.solver.system.ContactSystem` (node positions, weights, spacing)."""
     x, w = system.x, system.weights
     d = float(case.rolling.direction)
     load = float(-(w @ p_n))

@@ -14,7 +14,7 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from ..grid import node_cell_edges
+from ..model.grid import node_cell_edges
 from .quantities import (
     Adaptive,
     Contact,
@@ -193,7 +193,7 @@ def state_zones(x: np.ndarray, state: np.ndarray) -> list[tuple[str, float, floa
     """Runs of equal state over the node cells [length], on any grid.
 
     A node's cell reaches half way to its neighbours (at the ends, half the end
-    spacing beyond the end node): :func:`rolling_cli.grid.node_cell_edges`. On a
+    spacing beyond the end node): :func:`rolling_cli.model.grid.node_cell_edges`. On a
     uniform grid of spacing Delta that is [x_i - Delta/2, x_i + Delta/2].
     """
     if x.size == 0:

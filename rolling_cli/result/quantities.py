@@ -1,7 +1,7 @@
 """Every scalar a result holds, declared once: its name, type, unit and long name.
 
 The groups below are the scalar fields of :class:`rolling_cli.result.Result`
-(it inherits them); the file layout (:mod:`rolling_cli.layout`) takes the
+(it inherits them); the file layout (:mod:`rolling_cli.files.layout`) takes the
 ``units`` and ``long_name`` attributes of the file's ``(case)`` variables from
 the same declarations, so the Python object and the file cannot drift apart.
 

@@ -8,7 +8,7 @@ towards the target (inserting intermediate points) when the parameter is
 continuous. After an easy success (few Newton iterations) the next step grows.
 
 Paths walked with it: the coupling scale from 0 to 1 (strategies), a sweep's or
-a creep-force curve's swept value (:mod:`rolling_cli.sweep`), and the mesh
+a creep-force curve's swept value (:mod:`rolling_cli.study.sweep`), and the mesh
 levels of a solve (coarse grid, larger zone: :mod:`rolling_cli.pipeline`),
 whose parameter is discrete (``control=None``: no halving).
 """

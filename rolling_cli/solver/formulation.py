@@ -6,7 +6,7 @@ At a creepage xi and an overlap the contact laws are the projections
     F_t = p_t - Proj_[-g, g](p_t - r_t s_t),  g = -mu min(0, p_n + r_n delta_n) = 0   (eq. 31)
 
 with the gap delta_n and the slip s_t the linear functions of
-:class:`~rolling_cli.system.ContactSystem` (eq. 33). A prescribed load P makes
+:class:`~rolling_cli.solver.system.ContactSystem` (eq. 33). A prescribed load P makes
 the overlap unknown, with the equation sum w p_n + P = 0; a prescribed
 tangential force makes the creepage unknown, with sum w p_t = Q_target.
 
@@ -43,7 +43,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..system import ContactSystem, abs_row_sum_max
+from .system import ContactSystem, abs_row_sum_max
 
 if TYPE_CHECKING:
     from ..model.friction import SlipFriction

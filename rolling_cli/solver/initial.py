@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..references import carter, hertz
-from ..system import ContactSystem
 from .formulation import State
+from .system import ContactSystem
 
 
 def carter_ratio_for_creep(creep: float, full_slip_creep: float) -> float:

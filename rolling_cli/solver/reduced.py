@@ -151,7 +151,7 @@ def dense_matrix(problem: Problem, lay: Layout) -> np.ndarray:
 
 def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> ReducedSystem:
     """The reduced Newton system of the node sets (see :class:`ReducedSystem`): its matrix dense,
-    or on a matrix-free system (:attr:`~rolling_cli.system.ContactSystem.matrix_free`) the
+    or on a matrix-free system (:attr:`~rolling_cli.solver.system.ContactSystem.matrix_free`) the
     operator :class:`~rolling_cli.solver.matrix_free.ReducedOperator`, with the same rows."""
     lay = layout(problem, state, sets, ev)
     matrix: np.ndarray | ReducedOperator

@@ -72,10 +72,10 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ..system import ContactSystem
 from . import reduced
 from .formulation import Problem, State, evaluate, node_sets, traction_scales
 from .linalg import solve_dense
+from .system import ContactSystem
 
 
 @dataclass(frozen=True)

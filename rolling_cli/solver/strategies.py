@@ -39,11 +39,11 @@ import dataclasses
 import numpy as np
 
 from ..model.friction import SlipFriction
-from ..system import ContactSystem
 from . import continuation, formulation, predictor, reduced
 from .budget import Budget, BudgetExhausted
 from .formulation import Evaluation, Problem, State
 from .newton import Armijo, NewtonFailure, NonlinearSystem, Watchdog, newton
+from .system import ContactSystem
 from .task import TANGENTIAL_KINDS, Controls, Solution, Strategy, StrategyFailed, Task  # noqa: F401 (the strategies' names)
 
 # --- one Newton run on one problem ---------------------------------------------------------------

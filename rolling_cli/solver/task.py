@@ -10,9 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.friction import SlipFriction
-from ..system import ContactSystem
 from . import predictor
 from .formulation import Evaluation, Problem, State
+from .system import ContactSystem
 
 TANGENTIAL_KINDS = ("creep", "load", "q_over_p", "q_over_mu_p", "none")
 

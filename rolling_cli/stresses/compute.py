@@ -34,9 +34,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import materials
 from ..influence import build
 from ..influence.choice import influence_model
+from ..model import materials
 from . import halfplane, invariants, surface
 
 #: Field margin beyond the potential contact zone, as a fraction of its half-width.

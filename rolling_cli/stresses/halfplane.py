@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..grid import ContactGrid, shape_coefficients
+from ..model.grid import ContactGrid, shape_coefficients
 from .cauchy import line_integrals
 
 

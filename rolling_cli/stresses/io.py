@@ -1,7 +1,7 @@
 """The ``stresses`` subgroups of a result file: one per body, ``A`` and ``B``, of each case.
 
 In a file they sit under the case's row, ``stresses/case_000000/A`` and
-``stresses/case_000000/B`` (:mod:`rolling_cli.writer`; a single result also
+``stresses/case_000000/B`` (:mod:`rolling_cli.files.writer`; a single result also
 links ``stresses/A`` and ``stresses/B`` to them); :func:`write_bodies` fills
 one case's group.
 

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..grid import ContactGrid
+from ..model.grid import ContactGrid
 from .cauchy import line_integrals
 
 

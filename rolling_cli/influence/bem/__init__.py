@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...grid import ContactGrid
+from ...model.grid import ContactGrid
 from .. import Compliance
 from .condense import Condensed, boundary_values, contact_blocks, factorise, prepare, solve
 from .farfield import far_field_values

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...kernels import log_moments
+from ...model.kernels import log_moments
 
 #: Up to |c| = NEAR_LINE the moments are in closed form, up to SERIES by Gauss-Legendre on the
 #: smooth integrand, beyond by their series in 1/c, of which the terms up to z^(2 PAIRS - 1) are
@@ -76,7 +76,7 @@ def line_moments(c: np.ndarray, on_element: np.ndarray) -> tuple[np.ndarray, np.
     """L_m(c) = int xi^m ln|xi - c| and K_m(c) = int xi^m / (xi - c) over xi in [-1, 1], m = 0, 1, 2.
 
     ``c`` (P,); returns two (P, 3) arrays (dimensionless). K is left zero where
-    ``on_element`` (|c| <= 1, not needed there). L: :func:`rolling_cli.kernels.log_moments`
+    ``on_element`` (|c| <= 1, not needed there). L: :func:`rolling_cli.model.kernels.log_moments`
     up to |c| = ``SERIES``. K: closed form up to ``NEAR_LINE`` (K_0 =
     ln|(1 - c)/(1 + c)|, K_1 = 2 + c K_0, K_2 = c K_1), 12-point Gauss-Legendre
     up to ``SERIES`` (the pole outside the Bernstein ellipse of parameter

@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...grid import ContactGrid
+from ...model.grid import ContactGrid
 from .. import Compliance
 from .condense import contact_blocks, factorise, solve
 from .elements import GEOMETRY_COEFFICIENTS, evaluate, functional_nodes

@@ -14,7 +14,7 @@ from __future__ import annotations
 import contextlib
 import logging
 
-from .errors import CaseError
+from ..errors import CaseError
 
 _limits = None
 
@@ -28,7 +28,7 @@ def solve_chunk_task(base, chunk, warm: bool, use_cache: bool) -> list:
     slower when called from a thread other than the main one, where dask runs its tasks.
     """
     global _limits
-    from . import blas
+    from .. import blas
     from .chunk import solve_items
 
     if _limits is None:

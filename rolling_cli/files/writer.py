@@ -1,4 +1,4 @@
-"""The single writer of a result file (layout: :mod:`rolling_cli.layout`): rows appended, never rewritten.
+"""The single writer of a result file (layout: :mod:`rolling_cli.files.layout`): rows appended, never rewritten.
 
 Every variable with the ``case`` dimension is chunked, its chunks sized for a
 capacity of rows; the ``case`` dimension (and the histories' ``row``) is as long
@@ -66,7 +66,7 @@ FIRST_ROWS = 256
 PREALLOCATE = 1 << 28
 GROWTH = 4
 #: Rows per block when a rebuild turns a shared grid into a per-case one (they bound its memory;
-#: row copies use :data:`rolling_cli.storage.COPY_BYTES`).
+#: row copies use :data:`rolling_cli.files.storage.COPY_BYTES`).
 BLOCK_ROWS = 4096
 
 
@@ -75,19 +75,19 @@ def _index(name: str) -> dict:
 
 
 def _node_meta() -> dict:
-    from .result import DATASETS
+    from ..result import DATASETS
 
     return {**DATASETS, **NODE_FIELDS}
 
 
 class ResultFile:
-    """Appends rows (:class:`~rolling_cli.rows.Row`) to one result file.
+    """Appends rows (:class:`~rolling_cli.files.rows.Row`) to one result file.
 
     ``attrs``: root attributes (provenance, case, sweep); ``keys``: the swept
     dotted keys, in order; ``total``: the number of cases the file will hold
     (None when unknown), which caps the capacity; ``replace``: the first
     write may replace an existing file (``--overwrite``). The caller holds the
-    output's lock (:func:`rolling_cli.outputs.claim`).
+    output's lock (:func:`rolling_cli.files.outputs.claim`).
     """
 
     def __init__(

@@ -22,7 +22,7 @@ import os
 import stat
 from pathlib import Path
 
-from .errors import CaseError, RollingError
+from ..errors import CaseError, RollingError
 
 HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 

@@ -61,7 +61,7 @@ import math
 
 import numpy as np
 
-from ..influence import Compliance
+from . import Compliance
 
 __all__ = ["contact_frame", "arc_frame", "finite_pair", "shaft_quantities"]
 

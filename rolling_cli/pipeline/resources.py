@@ -61,8 +61,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from . import materials
-from .errors import CaseError
+from ..errors import CaseError
+from ..model import materials
 from .machine import available_memory, format_bytes  # noqa: F401 (re-exported: sweeps and the mesh path ask here)
 
 #: Peak RSS over the traced arrays of the model (allocator, LAPACK workspace,
@@ -150,7 +150,7 @@ def estimate(case) -> Estimate:
     Allocates nothing that grows with the mesh: the BEM meshes are counted,
     not built.
     """
-    from . import pipeline
+    from .. import pipeline
 
     a_body, b_body = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a_body.modulus, a_body.ratio, b_body.modulus, b_body.ratio)
@@ -172,7 +172,7 @@ def _layered(case) -> bool:
 def _main(case, half_width: float) -> tuple[str, float, float, int, int, str]:
     """The solve on the case's own mesh, a = ``half_width``, after its coarse grid levels
     (grid sequencing), whose influences stay memoised while the finer levels run."""
-    from .pipeline import SEQUENCING_ELEMENTS, plan
+    from . import SEQUENCING_ELEMENTS, plan
 
     disc = case.discretization
     the_plan = plan(case, half_width=half_width, check=False)
@@ -224,7 +224,7 @@ def _operators(the_plan) -> bool:
     """True when the level's half-plane blocks are block-Toeplitz operators (the matrix-free path)."""
     if the_plan.effects.influence != "half-plane":
         return False
-    from .influence.halfplane import use_operators
+    from ..influence.halfplane import use_operators
 
     return use_operators(the_plan.grid)
 
@@ -308,7 +308,7 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
     C coarse unknowns, at least one per :data:`~rolling_cli.solver.coarse.AGGREGATE` unknowns):
     its assembly (B / 2 and 4 C^2: the corner sums, their difference, the gathered block and the
     coarse matrix) and its LU during GMRES (C^2)."""
-    from .solver import coarse, krylov, matrix_free
+    from ..solver import coarse, krylov, matrix_free
 
     contact = n / zone
     per_node = 2 if coupled else 1
@@ -337,7 +337,7 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
 
 def _presolve(case, guess: float) -> tuple[str, float, float, int, int, str]:
     """The first coarse frictionless pre-solve that measures a (BEM, zone PRESOLVE_ZONE guesses)."""
-    from .pipeline import PRESOLVE_ZONE, presolve_case
+    from . import PRESOLVE_ZONE, presolve_case
 
     trial = presolve_case(case, guess, PRESOLVE_ZONE)
     _, doubles, flops, n, boundary, key = _main(trial, guess)
@@ -352,11 +352,11 @@ def body_mesh_size(case, the_plan, body) -> tuple[int, int]:
     The geometry is :func:`rolling_cli.influence.build.bem_inputs`'; the counts
     follow :func:`rolling_cli.influence.bem.mesh.rectangle` (tested against it).
     """
-    from .influence.build import bem_inputs
+    from ..influence.build import bem_inputs
 
     inputs = bem_inputs(case, the_plan, body)
     if inputs.get("shape") == "cylinder":  # the annulus (its mesh counted from its edges alone)
-        from .influence.bem.cylinder import annulus_size
+        from ..influence.bem.cylinder import annulus_size
 
         return annulus_size(inputs["zone_half_width"], inputs["elements"], inputs["radius"], inputs["inner_radius"])
     largest = inputs["depth"] if inputs["kind"] == "layered" else None
@@ -461,7 +461,7 @@ def check_layer_elements(case) -> None:
     thickness even if the contact were :data:`GUESS_MARGIN` times narrower than its
     first guess: :func:`rolling_cli.pipeline.plan` would refuse it anyway, but only
     after the pre-solve that measures a (issue #15: 100 s and 6 GB for b = 1e-6)."""
-    from . import pipeline
+    from .. import pipeline
 
     layers = [(label, getattr(case.bodies, label)) for label in ("A", "B")]
     layers = [(label, body) for label, body in layers if body.kind == "layered"]

@@ -1,7 +1,7 @@
 """One chunk of a sweep: neighbouring cases on one contact system, built and solved in order,
-each warm-started along a :class:`~rolling_cli.path.CasePath`. A chunk runs where it is sent:
-in the sweep's process, a local worker process (:mod:`rolling_cli.workers`) or a Dask task
-(:mod:`rolling_cli.distributed`); its records go back to the sweep (:mod:`rolling_cli.sweep`)."""
+each warm-started along a :class:`~rolling_cli.study.path.CasePath`. A chunk runs where it is sent:
+in the sweep's process, a local worker process (:mod:`rolling_cli.study.workers`) or a Dask task
+(:mod:`rolling_cli.study.distributed`); its records go back to the sweep (:mod:`rolling_cli.study.sweep`)."""
 
 from __future__ import annotations
 
@@ -11,11 +11,11 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from typing import Any
 
-from . import pipeline
-from .case import Case
-from .errors import CaseError, GrossSlidingError, RollingError
+from .. import pipeline
+from ..case import Case
+from ..errors import CaseError, GrossSlidingError, RollingError
+from ..pipeline.resources import check_resources as check_memory
 from .path import CasePath
-from .resources import check_resources as check_memory
 from .sweep_spec import build, given
 
 #: Cases per chunk: the unit of warm starting and of work given to a process.
@@ -69,7 +69,7 @@ class Record:
 
 def solve_chunk(chunk: list[tuple[int, dict, Case]], warm: bool, use_cache: bool) -> Iterator[Record]:
     """Solve a chunk in order on one contact system, each case warm-started along a
-    :class:`~rolling_cli.path.CasePath` (the boundary secant of its two predecessors)."""
+    :class:`~rolling_cli.study.path.CasePath` (the boundary secant of its two predecessors)."""
     path = None
     for index, values, case in chunk:
         start_time = time.perf_counter()

@@ -5,7 +5,7 @@
 
 gap0 = x^2 / (2 R*) is the undeformed profile (eq. 7), ``overlap`` the imposed
 rigid approach, xi the creepage, e the creep vector (0 on the gauge row) and T
-the upwind slip operator of :mod:`rolling_cli.slip`. The contact laws and the
+the upwind slip operator of :mod:`rolling_cli.model.slip`. The contact laws and the
 Newton solver in :mod:`rolling_cli.solver` only see these plain arrays, or, for
 large uniform half-plane grids, block-Toeplitz operators with the same entries
 (:class:`~rolling_cli.influence.toeplitz.BlockToeplitz`: ``@``, exact entries,
@@ -19,9 +19,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import slip
-from .grid import ContactGrid, node_cell_edges
-from .influence import Block, Compliance
+from ..influence import Block, Compliance
+from ..model import slip
+from ..model.grid import ContactGrid, node_cell_edges
 
 
 @dataclass(frozen=True)
@@ -83,7 +83,7 @@ class ContactSystem:
         return "Krylov" if self.matrix_free else "dense LU"
 
     def node_cells(self) -> tuple[np.ndarray, np.ndarray]:
-        """Lower and upper edges of every node's cell [length] (:func:`~rolling_cli.grid.node_cell_edges`)."""
+        """Lower and upper edges of every node's cell [length] (:func:`~rolling_cli.model.grid.node_cell_edges`)."""
         edges = node_cell_edges(self.x)
         return edges[:-1], edges[1:]
 
@@ -245,14 +245,14 @@ def _with_hoop(b_tt, b_tn, compliance: Compliance, gauge: int, direction: int):
 
 
 def _slip_block(matrix, spacing, direction: int, scheme: str):
-    """T @ matrix (:func:`rolling_cli.slip.apply_t`), for a dense block or a block-Toeplitz operator."""
+    """T @ matrix (:func:`rolling_cli.model.slip.apply_t`), for a dense block or a block-Toeplitz operator."""
     if _is_operator(matrix):
         return matrix.upwind_derivative(spacing, direction, scheme)
     return slip.apply_t(matrix, spacing, direction, scheme)
 
 
 def _downwind_row(matrix, spacing, direction: int) -> np.ndarray:
-    """The gauge node's downwind slip row (:func:`rolling_cli.slip.downwind_row`), dense or block-Toeplitz."""
+    """The gauge node's downwind slip row (:func:`rolling_cli.model.slip.downwind_row`), dense or block-Toeplitz."""
     if _is_operator(matrix):
         n = matrix.shape[0]
         g = slip.gauge_index(n, direction)
@@ -267,7 +267,7 @@ UNIFORM_TOLERANCE = 1e-9
 
 
 def _slip_spacing(x: np.ndarray, grid: ContactGrid | float) -> tuple[float | np.ndarray, float]:
-    """The spacing argument of :func:`rolling_cli.slip.apply_t` and the largest node distance [length]."""
+    """The spacing argument of :func:`rolling_cli.model.slip.apply_t` and the largest node distance [length]."""
     gaps = np.diff(x)
     if isinstance(grid, ContactGrid):
         if grid.size != x.size or not np.allclose(grid.x, x, rtol=0.0, atol=UNIFORM_TOLERANCE * grid.half_width):

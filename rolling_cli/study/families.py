@@ -22,8 +22,8 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from .case import Case
-from .errors import CaseError
+from ..case import Case
+from ..errors import CaseError
 from .sweep_spec import CHECK_VALUES, Linspace, SweepSpec, build
 
 #: The key each kind of curve runs along.
@@ -35,8 +35,8 @@ CREEP_SPAN = 1.5
 
 def full_slip_creepage(case: Case) -> float:
     """|xi| [-] at the onset of full slip of ``case``: mu a / R* (Carter), a measured when not Hertzian."""
-    from . import pipeline
-    from .references import carter
+    from .. import pipeline
+    from ..references import carter
 
     the_plan = pipeline.measured_plan(case)
     return carter.full_slip_creepage(the_plan.half_width, the_plan.radius, case.friction.mu)
@@ -53,7 +53,7 @@ def curve_values(case: Case, kind: str, points: int) -> Linspace:
 @dataclass(frozen=True)
 class FamilySpec:
     """One ``kind`` curve of ``points`` points per combination of ``curves`` (the ``--set`` keys),
-    with the interface of :class:`~rolling_cli.sweep_spec.SweepSpec` (keys: the curve keys, then
+    with the interface of :class:`~rolling_cli.study.sweep_spec.SweepSpec` (keys: the curve keys, then
     the curve's own key)."""
 
     base: Case
@@ -105,7 +105,7 @@ class FamilySpec:
 
     def probes(self) -> Iterator[int]:
         """The cases a large family checks before the run: both ends of every curve (of the first
-        and last curve beyond :data:`~rolling_cli.sweep_spec.CHECK_VALUES` curves)."""
+        and last curve beyond :data:`~rolling_cli.study.sweep_spec.CHECK_VALUES` curves)."""
         n = self.curves.size
         for curve in range(n) if n <= CHECK_VALUES // 10 else (0, n - 1):
             yield curve * self.points

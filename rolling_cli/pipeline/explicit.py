@@ -13,11 +13,11 @@ from __future__ import annotations
 import dataclasses
 
 from ..case import Case
-from ..grid import ContactGrid
-from ..pipeline import build_contact_system, measured_plan, solve
+from ..model.grid import ContactGrid
 from ..result import Result
 from ..solver.formulation import State
-from ..system import ContactSystem
+from ..solver.system import ContactSystem
+from . import build_contact_system, measured_plan, solve
 
 
 def system_on_grid(case: Case, grid: ContactGrid, use_cache: bool = True) -> ContactSystem:

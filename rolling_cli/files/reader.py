@@ -1,4 +1,4 @@
-"""Reading result files: format 2 (:mod:`rolling_cli.layout`) and format 1 (read only).
+"""Reading result files: format 2 (:mod:`rolling_cli.files.layout`) and format 1 (read only).
 
 Only the first ``cases_complete`` rows of a format-2 file are read: rows
 beyond it belong to a write that did not finish. Functions take an open h5py
@@ -16,8 +16,8 @@ from typing import Any
 import h5py
 import numpy as np
 
+from ..result import QUANTITIES, Result
 from .layout import CONVERGENCE, FORMAT, FORMAT_V1_SWEEP, PROVENANCE
-from .result import QUANTITIES, Result
 from .rows import GROUP_HOOKS
 
 log = logging.getLogger(__name__)

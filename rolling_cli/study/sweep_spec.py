@@ -22,9 +22,9 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from .case import Case, with_overrides
-from .case.validate import convert_scalar, field_metadata
-from .errors import CaseError
+from ..case import Case, with_overrides
+from ..case.validate import convert_scalar, field_metadata
+from ..errors import CaseError
 
 #: Sweeps of up to this many cases have every case built and validated before the first solve.
 VALIDATE_ALL = 2_000
@@ -102,7 +102,7 @@ class SweepSpec:
 
     def curve_of(self, index: int) -> int:
         """The warm-start path case ``index`` is on: one for a plain sweep (a family of curves has one per
-        curve, :class:`~rolling_cli.families.FamilySpec`); chunks never cross paths."""
+        curve, :class:`~rolling_cli.study.families.FamilySpec`); chunks never cross paths."""
         return 0
 
     def describe(self) -> str:
@@ -196,8 +196,8 @@ def curve_spec(base: Case, kind: str, points: int) -> SweepSpec:
         raise CaseError(f"{base.source or 'case'}: friction.mu = 0: no creep-force curve without friction")
     if kind == "load":
         return SweepSpec(("tangential.q_over_mu_p",), (Linspace(-0.99, 0.99, points),))
-    from . import pipeline
-    from .references import carter
+    from .. import pipeline
+    from ..references import carter
 
     the_plan = pipeline.measured_plan(base)
     full = carter.full_slip_creepage(the_plan.half_width, the_plan.radius, base.friction.mu)
@@ -218,12 +218,12 @@ def _memory_key(case: Case) -> tuple:
 def build(base: Case, combo: dict, fits: set | None = None) -> Case:
     """The case of one combination, validated, with the checks ``rollc solve`` makes before solving
     that need no solve (gross sliding: :func:`~rolling_cli.pipeline.check_gross_sliding`; memory
-    and the layer's element rule: :func:`~rolling_cli.resources.check_resources`). A
+    and the layer's element rule: :func:`~rolling_cli.pipeline.resources.check_resources`). A
     :class:`CaseError` names the swept keys and the values as given. ``fits``: the memory keys
     found to fit so far in this run (a memo; None: check every case)."""
-    from .errors import GrossSlidingError
-    from .pipeline import check_gross_sliding
-    from .resources import check_resources as check_memory
+    from ..errors import GrossSlidingError
+    from ..pipeline import check_gross_sliding
+    from ..pipeline.resources import check_resources as check_memory
 
     try:
         case = with_overrides(base, combo)
@@ -284,7 +284,7 @@ def check_resources(base: Case, spec: SweepSpec, output: str) -> None:
     cases = spec.size
     per_case = bytes_per_case(base, spec)
     counts = ", ".join(f"{k}: {len(v)} values" for k, v in zip(spec.keys, spec.values, strict=True))
-    from .resources import available_memory
+    from ..pipeline.resources import available_memory
 
     memory = available_memory()
     if memory is not None and BYTES_IN_MEMORY * cases > memory // 2:
@@ -324,7 +324,7 @@ def difference(attrs: dict, base_toml: str, spec: SweepSpec, warm: bool) -> str 
     """
     import tomllib
 
-    from .layout import FORMAT_VERSION
+    from ..files.layout import FORMAT_VERSION
 
     version = attrs.get("format_version", 1)
     if version != FORMAT_VERSION:
@@ -356,7 +356,7 @@ def _with_defaults(data: dict) -> dict:
     before ``friction.law`` existed is the same sweep); the record as it is if it no longer validates."""
     import tomllib
 
-    from .case.io import case_from_dict, case_to_toml
+    from ..case.io import case_from_dict, case_to_toml
 
     try:
         return tomllib.loads(case_to_toml(case_from_dict(data, None)))

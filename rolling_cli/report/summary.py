@@ -6,8 +6,8 @@ import json
 import math
 import textwrap
 
-from .result import Result
-from .stresses import power
+from ..result import Result
+from ..stresses import power
 
 
 def _fmt(value: float | None, digits: int = 6) -> str:
@@ -72,7 +72,7 @@ def _effects_lines(attrs) -> list[str]:
 
 def _accuracy_lines(attrs) -> list[str]:
     """The adaptive mesh's accuracy line and note, and the a-posteriori error estimate, when recorded."""
-    from .adapt.levels import summary_line  # imported when a summary is printed (not by rollc -q)
+    from ..adapt.levels import summary_line  # imported when a summary is printed (not by rollc -q)
 
     lines = []
     accuracy = summary_line(attrs)
@@ -153,7 +153,7 @@ def summary(result: Result, output: str | None = None) -> str:
     if power_line:
         lines.append(power_line)
     if "stress_bodies" in attrs:
-        from .stresses.report import summary_lines
+        from ..stresses.report import summary_lines
 
         lines.extend(summary_lines(attrs, u))
     lines.append(

@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .result import QUANTITIES
+from ..result import QUANTITIES
 
 FORMAT = "rolling_cli.result"
 FORMAT_VERSION = 2
@@ -88,7 +88,7 @@ HISTORY = {
     "tolerance": ("residual tolerance applied at the row", "1"),
 }
 
-#: Unit keys of the variables of extra groups (rolling_cli.rows.GROUP_HOOKS) that lack units.
+#: Unit keys of the variables of extra groups (rolling_cli.files.rows.GROUP_HOOKS) that lack units.
 GROUP_UNITS = {"element_edges": "length"}
 
 #: Index variables (dimension coordinates and the ragged array's index): long name, unit "1".
@@ -242,7 +242,7 @@ def swept(key: str, units: dict[str, str], text: bool) -> dict:
     """Attributes of the coordinate of the swept dotted ``key``: its case key, a long name from the
     case schema's documentation, and its units (the ``[length]`` etc. of that documentation in the
     case's units; "1" for numbers without one; none for text)."""
-    from .case.validate import field_metadata
+    from ..case.validate import field_metadata
 
     doc = field_metadata(key).get("doc", "")
     found = re.search(r"\[([a-z/^]+)\]", doc)

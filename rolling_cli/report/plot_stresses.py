@@ -15,11 +15,11 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from .errors import CaseError
-from .io_hdf5 import read_result
+from ..errors import CaseError
+from ..files.io_hdf5 import read_result
+from ..files.reader import is_sweep
+from ..result import Result
 from .plot import COLOURS, FORMATS, _figure
-from .reader import is_sweep
-from .result import Result
 
 #: Filled contour levels per map (at most; rounded to nice values).
 LEVELS = 20

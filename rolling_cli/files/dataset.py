@@ -2,7 +2,7 @@
 
 With xarray and h5netcdf installed (extra ``rolling-cli[xarray]``) the file
 opens as a Dataset with dimensions ``case`` and ``node`` (see
-:mod:`rolling_cli.layout`), trimmed to the complete cases; it is the same as
+:mod:`rolling_cli.files.layout`), trimmed to the complete cases; it is the same as
 ``xarray.open_dataset(path)`` on a finished file. Without xarray: the
 :class:`~rolling_cli.result.Result` of a one-case file, or a list of Results
 (one per case; a failed case has empty arrays) of a sweep.

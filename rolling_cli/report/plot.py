@@ -13,7 +13,7 @@
   labelled ``key = value`` in its legend.
 
 Files of format 1 are converted to the current layout first
-(:mod:`rolling_cli.legacy`), so one reader serves both.
+(:mod:`rolling_cli.files.legacy`), so one reader serves both.
 
 Figures are built with matplotlib's object API on the Agg canvas (no screen
 needed); :func:`plot_file` returns the Figure so tests can inspect it.
@@ -29,10 +29,10 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from . import outputs
-from .legacy import converted
-from .reader import case_table, is_sweep, read_case, swept_names, version
-from .result import Result
+from ..files import outputs
+from ..files.legacy import converted
+from ..files.reader import case_table, is_sweep, read_case, swept_names, version
+from ..result import Result
 
 COLOURS = {"adhesion": "#cfe3f5", "slip": "#fbe0c4"}
 TANGENTIAL_KEYS = ("tangential.q_over_mu_p", "tangential.q_over_p", "tangential.load", "tangential.creep")

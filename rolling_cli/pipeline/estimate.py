@@ -24,10 +24,10 @@ import logging
 
 import numpy as np
 
-from .case import Case
-from .errors import CaseError, RollingError
-from .pipeline import solve
-from .result import Result, recorded
+from ..case import Case
+from ..errors import CaseError, RollingError
+from ..result import Result, recorded
+from . import solve
 
 log = logging.getLogger(__name__)
 

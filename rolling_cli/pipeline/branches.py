@@ -22,10 +22,10 @@ import dataclasses
 import math
 from collections.abc import Callable
 
-from .case import Case, with_overrides
-from .errors import ConvergenceError
-from .result import Result, recorded
-from .solver.formulation import State
+from ..case import Case, with_overrides
+from ..errors import ConvergenceError
+from ..result import Result, recorded
+from ..solver.formulation import State
 
 #: ``solver.branch`` -> the ``branch`` a result on it records.
 BRANCHES = {"low-slip": "rising", "high-slip": "falling"}

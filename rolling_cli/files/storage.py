@@ -1,6 +1,6 @@
 """HDF5 storage of the result layout: datasets with their chunks, dimension scales and
 attributes (through h5py's low-level API where the high-level one costs), row copies and
-extents. :mod:`rolling_cli.writer` decides what to write and when; this module writes it."""
+extents. :mod:`rolling_cli.files.writer` decides what to write and when; this module writes it."""
 
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ def extend(handle, schema: dict, history: dict, rows: int, history_rows: int) ->
 
 def write_group(group, name: str, payload, units: dict[str, str]) -> None:
     """An extra group through its hook; its variables that have no units get those of
-    :data:`~rolling_cli.layout.GROUP_UNITS` (the hooks do not know the case's units)."""
+    :data:`~rolling_cli.files.layout.GROUP_UNITS` (the hooks do not know the case's units)."""
     GROUP_HOOKS[name].write(group, payload)
     for ds in datasets(group):
         key = GROUP_UNITS.get(ds.name.rsplit("/", 1)[-1])
@@ -182,7 +182,7 @@ def dataset(group, name: str, var: Var, plan: dict):
     if var.kind.name == "bool":
         attrs.update(dtype="bool", flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="false true")
     elif name == "state":
-        from .result import STATE_NAMES
+        from ..result import STATE_NAMES
 
         attrs["flag_values"] = np.array(sorted(STATE_NAMES), dtype=np.int8)
         attrs["flag_meanings"] = " ".join(STATE_NAMES[k] for k in sorted(STATE_NAMES))

@@ -47,13 +47,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import pipeline
-from ._version import __version__
-from .case import Case, case_to_toml
-from .errors import CaseError
-from .result import recorded, utc_timestamp
-from .solver.formulation import State
-from .table import FrictionTable, Table, TableRow, between, hermite
+from .. import pipeline
+from .._version import __version__
+from ..case import Case, case_to_toml
+from ..errors import CaseError
+from ..result import recorded, utc_timestamp
+from ..solver.formulation import State
+from ..table import FrictionTable, Table, TableRow, between, hermite
 
 log = logging.getLogger(__name__)
 

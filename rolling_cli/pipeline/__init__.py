@@ -39,30 +39,30 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._version import __version__
+from ..adapt import graded
+from ..case import Case, case_to_dict, case_to_toml, load_case
+from ..case.given import given
+from ..errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
+from ..influence.build import clear_memo, pair_compliance
+from ..influence.finite import shaft_quantities
+from ..model import materials
+from ..model.grid import ContactGrid
+from ..model.validity import half_space_check
+from ..references import carter, hertz, thin_layer
+from ..result import Result, node_states, utc_timestamp
+from ..solver import continuation, control, formulation, predictor, strategies
+from ..solver.budget import Budget
+from ..solver.formulation import State
+from ..solver.initial import carter_ratio_for_creep, cold_start
+from ..solver.strategies import Controls, Solution, StrategyFailed, Task
+from ..solver.system import ContactSystem, abs_max, build_system
+from ..stresses import power
 from . import effects as effects_mod
-from . import materials
-from ._version import __version__
-from .adapt import graded
-from .case import Case, case_to_dict, case_to_toml, load_case
-from .case.given import given
-from .errors import CaseError, ConvergenceError, GrossSlidingError, ZoneError
-from .grid import ContactGrid
-from .influence.build import clear_memo, pair_compliance
-from .model.finite import shaft_quantities
-from .references import carter, hertz, thin_layer
 from .resources import check_resources
-from .result import Result, node_states, utc_timestamp
-from .solver import continuation, control, formulation, predictor, strategies
-from .solver.budget import Budget
-from .solver.formulation import State
-from .solver.initial import carter_ratio_for_creep, cold_start
-from .solver.strategies import Controls, Solution, StrategyFailed, Task
-from .stresses import power
-from .system import ContactSystem, abs_max, build_system
-from .validity import half_space_check
 
 if TYPE_CHECKING:  # the adaptive levels are imported only with [discretization] tolerance (start-up)
-    from .adapt import levels as adaptive
+    from ..adapt import levels as adaptive
 
 log = logging.getLogger(__name__)
 
@@ -539,7 +539,7 @@ class MeshPath:
         level that does not converge ends the loop; the result is then the previous level's."""
         disc = self.case.discretization
         last = self.last
-        from .adapt import levels as adaptive
+        from ..adapt import levels as adaptive
 
         layers = [
             given(b.layer_thickness, "layer_thickness")
@@ -573,7 +573,7 @@ class MeshPath:
     def _fields(self, level: Level) -> adaptive.LevelFields:
         """The nodal fields of a solved level that the adaptive decision and transfer use."""
         if level.fields is None:
-            from .adapt import levels as adaptive
+            from ..adapt import levels as adaptive
 
             state, system, mu = level.solved.state, level.built, level.case.friction.mu
             stick = level.solved.stick
@@ -687,7 +687,7 @@ class MeshPath:
         nodes there in contact, and Newton sheds surplus contact nodes only a few per iteration
         (measured on the dissimilar case at tolerance 1e-4: 41-76 iterations per fine level with
         the projected states, 1-5 with the pressure's)."""
-        from .adapt import levels as adaptive
+        from ..adapt import levels as adaptive
 
         warm = adaptive.transferred_state(self._fields(previous), level.plan.grid)
         cold = initial_state(level.case, level.plan, self._system(level))
@@ -854,7 +854,7 @@ def _attach_stresses(case: Case, the_plan: Plan, result: Result) -> Result:
     """The subsurface stresses the case asks for (nothing is imported without a [stresses] table)."""
     if case.stresses is None:
         return result
-    from .stresses import attach
+    from ..stresses import attach
 
     return attach(case, the_plan, result)
 
@@ -871,7 +871,7 @@ class _LevelFailed(Exception):
 
 
 def _task(case: Case, the_plan: Plan, system: ContactSystem) -> Task:
-    from .model.friction import slip_friction
+    from ..model.friction import slip_friction
 
     return Task(
         system,
@@ -975,7 +975,7 @@ def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dic
     (:func:`.solver.matrix_free.result_attributes`)."""
     if not system.matrix_free:
         return {"linear_solver": system.linear_solver}
-    from .solver import matrix_free
+    from ..solver import matrix_free
 
     return matrix_free.result_attributes(system, history)
 
@@ -1046,7 +1046,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
     visco = a.kind == "viscoelastic" or b.kind == "viscoelastic"
     if visco:  # rolling resistance, pressure shift, hysteresis (nothing for an elastic case)
-        from .model import resistance
+        from ..model import resistance
 
         attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius))
     reference = _closed_forms(case, system.x, the_plan.radius, q, load, ref_a, ref_p0, attrs)
@@ -1149,7 +1149,7 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
     held: :func:`~rolling_cli.solver.reduced.creep_sensitivity`, d mu/d s_a included) and the
     branch it puts the point on: "rising" (dQ/dxi < 0: Q grows with |xi|, the stable side of the
     curve's peak) or "falling"."""
-    from .model.friction import from_case
+    from ..model.friction import from_case
 
     law = from_case(case.friction, case.rolling)
     if not law.velocity_dependent:
@@ -1161,7 +1161,7 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
         "unit_time": case.units.time,
     }
     if solution is not None and solution.problem.tangential:
-        from .solver import formulation, reduced
+        from ..solver import formulation, reduced
 
         held = solution.problem.held(force=None)
         state = solution.state
@@ -1185,9 +1185,9 @@ def _sensitivities(case: Case, system: ContactSystem, state: State, converged: b
     tau V / a changes with the load), and the fixed-state ones miss the motion of the contact
     edges (3.7 % on dxi/dP of cases/rubber_roller-like SLS case against central differences of
     re-solves): a viscoelastic case records no P-derivatives (NaN)."""
-    from .model import viscoelastic
-    from .model.friction import from_case
-    from .solver import sensitivity
+    from ..model import viscoelastic
+    from ..model.friction import from_case
+    from ..solver import sensitivity
 
     t0 = time.perf_counter()
     found = sensitivity.UNDEFINED

@@ -1,12 +1,12 @@
 """Parameter studies: many solves of one case with some dotted keys varied.
 
-Stages: a :class:`~rolling_cli.sweep_spec.SweepSpec` (``--set KEY=VALUES``,
+Stages: a :class:`~rolling_cli.study.sweep_spec.SweepSpec` (``--set KEY=VALUES``,
 the case's ``[sweep]`` table, ``--curve``) -> checks before any solve (the
-output path, the disk space, the cases: :mod:`rolling_cli.sweep_spec`) ->
+output path, the disk space, the cases: :mod:`rolling_cli.study.sweep_spec`) ->
 the swept values in sweep order, cut into chunks of neighbouring cases that
 define one contact system (nothing built yet) -> each chunk built and solved
 where it runs (:func:`solve_items`: serially, in local worker processes or on
-a Dask cluster) -> the single writer (:class:`~rolling_cli.writer.ResultFile`),
+a Dask cluster) -> the single writer (:class:`~rolling_cli.files.writer.ResultFile`),
 which appends rows to the file.
 
 Reuse. Neighbouring cases that share geometry, materials and mesh share one
@@ -42,9 +42,16 @@ from dataclasses import dataclass, field
 import h5py
 import numpy as np
 
-from . import blas, outputs
+from .. import blas
+from ..case import Case, case_to_toml
+from ..errors import CaseError
+from ..files import outputs
+from ..files.io_hdf5 import root_attributes
+from ..files.reader import plain
+from ..files.rows import row_from_failure, row_from_result
+from ..files.writer import ResultFile
+from ..result import utc_timestamp
 from . import workers as local_workers
-from .case import Case, case_to_toml
 from .chunk import (  # noqa: F401  (the sweep API: chunks are solved there)
     CHUNK,
     SYSTEM_SECTIONS,
@@ -55,11 +62,6 @@ from .chunk import (  # noqa: F401  (the sweep API: chunks are solved there)
     solve_items,
     system_key,
 )
-from .errors import CaseError
-from .io_hdf5 import root_attributes
-from .reader import plain
-from .result import utc_timestamp
-from .rows import row_from_failure, row_from_result
 from .sweep_spec import (  # noqa: F401  (the sweep API: specifications live in sweep_spec)
     Linspace,
     SweepSpec,
@@ -73,7 +75,6 @@ from .sweep_spec import (  # noqa: F401  (the sweep API: specifications live in 
     spec_from_table,
     validate,
 )
-from .writer import ResultFile
 
 
 #: Seconds between two commits of the sweep file (the end of a sweep always commits);
@@ -181,7 +182,7 @@ class FileRecords(Mapping):
         return iter(np.flatnonzero(self.mask).tolist())
 
     def __getitem__(self, index: int) -> Record:
-        from .reader import case_table, read_case
+        from ..files.reader import case_table, read_case
 
         if not (0 <= index < self.mask.size and self.mask[index]):
             raise KeyError(index)
@@ -317,7 +318,7 @@ def _executor(workers: int, scheduler: str | None):
 def _open(base, spec, output, resume, overwrite, warm, command) -> tuple[ResultFile, np.ndarray]:
     """The writer, and which cases the file already holds (none unless resuming)."""
     done = np.zeros(spec.size, dtype=bool)
-    line = f"{utc_timestamp()} {command or 'rolling_cli.sweep.run'}"
+    line = f"{utc_timestamp()} {command or 'rolling_cli.study.sweep.run'}"
     if resume and os.path.exists(output):
         with h5py.File(output, "r") as handle:
             attrs = {k: plain(v) for k, v in handle.attrs.items()}

@@ -17,13 +17,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import pipeline
-from .branches import result_state
-from .case import Case, with_overrides
-from .errors import RollingError
-from .result import Result, recorded
-from .solver import continuation, predictor
-from .system import ContactSystem
+from .. import pipeline
+from ..case import Case, with_overrides
+from ..errors import RollingError
+from ..pipeline.branches import result_state
+from ..result import Result, recorded
+from ..solver import continuation, predictor
+from ..solver.system import ContactSystem
 
 
 def result_zones(result: Result) -> predictor.Zones:

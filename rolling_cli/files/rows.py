@@ -35,13 +35,13 @@ class GroupHook:
 
 
 def _write_stresses(group, bodies) -> None:
-    from .stresses.io import write_bodies  # the stress machinery loads only for files that have stresses
+    from ..stresses.io import write_bodies  # the stress machinery loads only for files that have stresses
 
     write_bodies(group, bodies)
 
 
 def _read_stresses(group):
-    from .stresses.io import read_stresses
+    from ..stresses.io import read_stresses
 
     return read_stresses(group)
 

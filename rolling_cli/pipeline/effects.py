@@ -34,11 +34,10 @@ import dataclasses
 import json
 from dataclasses import dataclass, field
 
-from . import materials
-from .case.given import given
-from .case.schema import Body, Case
-from .influence.choice import influence_model
-from .model import viscoelastic
+from ..case.given import given
+from ..case.schema import Body, Case
+from ..influence.choice import influence_model
+from ..model import materials, viscoelastic
 
 __all__ = ["Effects", "decide", "identical", "cross_compliance", "influence_model"]
 
@@ -126,7 +125,7 @@ def cross_compliance(case: Case) -> float:
 
 def _relaxed_half_width(case: Case) -> float:
     """Hertz a [length] of the pair with the relaxed moduli (the mesh scale of a viscoelastic case)."""
-    from .references import hertz
+    from ..references import hertz
 
     a, b = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
@@ -231,7 +230,7 @@ def decide(case: Case) -> Effects:
         if finite:
             notes["body shape"] = "finite cylinder (" + "; ".join(finite) + ")"
 
-    from .model.friction import from_case
+    from ..model.friction import from_case
 
     law = from_case(case.friction, case.rolling)
     notes["friction"] = law.describe(case.units.time, case.units.length)
@@ -245,7 +244,7 @@ def decide(case: Case) -> Effects:
     if case.stresses is None:
         notes["stresses"] = "skipped: not requested (no [stresses] table)"
     else:
-        from .stresses.report import planned_note
+        from ..stresses.report import planned_note
 
         notes["stresses"] = planned_note(case)
     strategy = "coupled" if coupling else ("decoupled" if tangential else "normal")

@@ -23,7 +23,7 @@ import sys
 import threading
 import time
 
-from . import blas
+from .. import blas
 
 _stopped = False
 _busy = False
@@ -66,7 +66,7 @@ def initialize(parent: int) -> None:
 
 
 def solve_chunk_until_stopped(base, chunk, warm: bool, use_cache: bool) -> list:
-    """The records of ``chunk`` (see :func:`rolling_cli.chunk.solve_items`), up to a stop."""
+    """The records of ``chunk`` (see :func:`rolling_cli.study.chunk.solve_items`), up to a stop."""
     global _busy
     from .chunk import solve_items
 

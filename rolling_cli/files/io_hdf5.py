@@ -1,10 +1,10 @@
 """HDF5 result files: write one result; read any result or sweep file.
 
 The layout (format "rolling_cli.result", version 2) is described in
-:mod:`rolling_cli.layout`: a single result is the one-case form of the sweep
+:mod:`rolling_cli.files.layout`: a single result is the one-case form of the sweep
 layout, netCDF-4/CF-compatible, so ``xarray.open_dataset`` opens it as is.
 Version-1 files (one HDF5 group per case) are still read
-(:func:`~rolling_cli.reader.read_group`).
+(:func:`~rolling_cli.files.reader.read_group`).
 
 Files are written under a temporary name in the target directory (mode 0666
 minus the umask), their space reserved first, and renamed: a failure leaves
@@ -15,10 +15,10 @@ from __future__ import annotations
 
 import os
 
-from ._version import __version__
+from .._version import __version__
+from ..result import Result, utc_timestamp
 from .layout import FORMAT, FORMAT_VERSION
 from .reader import read_group, read_result
-from .result import Result, utc_timestamp
 from .rows import row_from_result
 from .writer import ResultFile
 
