@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 from helpers import CARTER, case_dict, run_cli, write_case
 from rolling_cli import __version__
+from rolling_cli.pipeline import mesh_path
 
 _write = write_case
 _run = run_cli
@@ -95,9 +96,8 @@ def test_zone_too_small_is_enlarged_and_says_so(tmp_path):
 
 
 def test_zone_limit_fails_clearly(tmp_path, monkeypatch):
-    from rolling_cli import pipeline
 
-    monkeypatch.setattr(pipeline, "ZONE_LIMIT", 1.2)
+    monkeypatch.setattr(mesh_path, "ZONE_LIMIT", 1.2)
     case = _write(tmp_path, case_dict(**{"discretization.zone": 1.001, "discretization.contact_elements": 50}))
     result = _run("solve", case, "-o", tmp_path / "o.h5")
     assert result.exit_code == 1

@@ -29,6 +29,7 @@ from helpers import (
 from rolling_cli.case import load_case
 from rolling_cli.errors import ZoneError
 from rolling_cli.model import materials
+from rolling_cli.pipeline import mesh_path
 from rolling_cli.references import carter
 from rolling_cli.study import sweep
 
@@ -226,9 +227,8 @@ def test_a_zone_smaller_than_the_contact_is_enlarged_or_fails_clearly(monkeypatc
     r = solve(case_dict(**{"discretization.zone": 1.001, "discretization.contact_elements": 50}))
     _check(r, load=1812.5, q=0.51 * 0.1 * 1812.5)
     assert "enlarged from 1.001" in r.zone_note
-    from rolling_cli import pipeline
 
-    monkeypatch.setattr(pipeline, "ZONE_LIMIT", 1.2)
+    monkeypatch.setattr(mesh_path, "ZONE_LIMIT", 1.2)
     with pytest.raises(ZoneError, match="edge of the potential contact zone.*discretization.zone"):
         solve(case_dict(**{"discretization.zone": 1.001, "discretization.contact_elements": 50}))
 

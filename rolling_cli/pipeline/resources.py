@@ -150,12 +150,12 @@ def estimate(case) -> Estimate:
     Allocates nothing that grows with the mesh: the BEM meshes are counted,
     not built.
     """
-    from .. import pipeline
+    from .planning import first_guess
 
     a_body, b_body = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a_body.modulus, a_body.ratio, b_body.modulus, b_body.ratio)
     r_star = materials.effective_radius(a_body.radius, b_body.radius)
-    half_width = pipeline.first_guess(case, e_star, r_star)
+    half_width = first_guess(case, e_star, r_star)
     stages: list[tuple[str, float, float, int, int, str]] = []  # name, doubles, flops, n, N, key
     if case.normal.load is None or _layered(case):
         stages.append(_presolve(case, half_width))
@@ -172,7 +172,7 @@ def _layered(case) -> bool:
 def _main(case, half_width: float) -> tuple[str, float, float, int, int, str]:
     """The solve on the case's own mesh, a = ``half_width``, after its coarse grid levels
     (grid sequencing), whose influences stay memoised while the finer levels run."""
-    from . import SEQUENCING_ELEMENTS, plan
+    from .planning import SEQUENCING_ELEMENTS, plan
 
     disc = case.discretization
     the_plan = plan(case, half_width=half_width, check=False)
@@ -337,7 +337,7 @@ def _krylov_newton(n: int, zone: float, coupled: bool) -> tuple[float, float]:
 
 def _presolve(case, guess: float) -> tuple[str, float, float, int, int, str]:
     """The first coarse frictionless pre-solve that measures a (BEM, zone PRESOLVE_ZONE guesses)."""
-    from . import PRESOLVE_ZONE, presolve_case
+    from .planning import PRESOLVE_ZONE, presolve_case
 
     trial = presolve_case(case, guess, PRESOLVE_ZONE)
     _, doubles, flops, n, boundary, key = _main(trial, guess)
@@ -461,7 +461,7 @@ def check_layer_elements(case) -> None:
     thickness even if the contact were :data:`GUESS_MARGIN` times narrower than its
     first guess: :func:`rolling_cli.pipeline.plan` would refuse it anyway, but only
     after the pre-solve that measures a (issue #15: 100 s and 6 GB for b = 1e-6)."""
-    from .. import pipeline
+    from .planning import LAYER_ELEMENT_FRACTION, first_guess
 
     layers = [(label, getattr(case.bodies, label)) for label in ("A", "B")]
     layers = [(label, body) for label, body in layers if body.kind == "layered"]
@@ -470,10 +470,10 @@ def check_layer_elements(case) -> None:
     a_body, b_body = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a_body.modulus, a_body.ratio, b_body.modulus, b_body.ratio)
     r_star = materials.effective_radius(a_body.radius, b_body.radius)
-    smallest = pipeline.first_guess(case, e_star, r_star) / GUESS_MARGIN
+    smallest = first_guess(case, e_star, r_star) / GUESS_MARGIN
     disc = case.discretization
     for label, body in layers:
-        limit = pipeline.LAYER_ELEMENT_FRACTION * float(body.layer_thickness)
+        limit = LAYER_ELEMENT_FRACTION * float(body.layer_thickness)
         needed = math.ceil(2.0 * disc.zone * smallest / limit)
         if disc.contact_elements < needed:
             raise CaseError(

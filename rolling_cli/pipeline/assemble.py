@@ -1,0 +1,272 @@
+"""The :class:`~rolling_cli.result.Result` of a solved level: arrays, loads, zones, references,
+provenance and convergence record."""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+
+from .._version import __version__
+from ..case import Case
+from ..case.given import given
+from ..influence.finite import shaft_quantities
+from ..model.validity import half_space_check
+from ..references import carter, hertz
+from ..result import Result, node_states, utc_timestamp
+from ..solver.formulation import State
+from ..solver.strategies import Solution
+from ..solver.system import ContactSystem
+from ..stresses import power
+from . import effects as effects_mod
+from .planning import Level, Plan, _free_creep, coupling_strength, hertz_applies
+
+log = logging.getLogger(__name__)
+
+
+def _attach_stresses(case: Case, the_plan: Plan, result: Result) -> Result:
+    """The subsurface stresses the case asks for (nothing is imported without a [stresses] table)."""
+    if case.stresses is None:
+        return result
+    from ..stresses import attach
+
+    return attach(case, the_plan, result)
+
+
+def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dict:
+    """``linear_solver`` and, matrix-free, this solve's Krylov counts from its Newton history
+    (:func:`.solver.matrix_free.result_attributes`)."""
+    if not system.matrix_free:
+        return {"linear_solver": system.linear_solver}
+    from ..solver import matrix_free
+
+    return matrix_free.result_attributes(system, history)
+
+
+def assemble(level: Level, history: list[dict], timings: dict, converged: bool = True) -> Result:
+    """The :class:`Result` of a solved level: arrays, loads, zones, references and provenance."""
+    case, the_plan, system, solution = level.case, level.plan, level.built, level.solved
+    effects = the_plan.effects
+    if level.origin:
+        effects = effects.with_influence_origin(level.origin)
+    strength = coupling_strength(system)
+    if strength is not None:
+        effects = effects.with_coupling_strength(strength)
+    state = solution.state
+    stick = solution.stick
+    if not effects.tangential and case.friction.mu > 0.0:
+        stick = state.p_n < 0.0  # p_t = 0, xi = 0: every contact node adheres
+    w = system.weights
+    p_n, p_t = state.p_n, state.p_t
+    states = node_states(p_n, stick)
+    s_t = system.reported_slip(p_n, p_t, state.creep)
+    dissipation = power.density(p_t, s_t, states)
+    load = float(-(w @ p_n))
+    q = float(w @ p_t)
+    mu = case.friction.mu
+    contact = p_n < 0.0
+    if contact.any():
+        lo, hi = system.extent(contact)
+        centre, half_width = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    else:
+        centre = half_width = math.nan
+    overlap = state.overlap if system.definite_normal else math.nan
+    a, b = case.bodies.A, case.bodies.B
+    if load > 0.0:  # Hertz at the solved load (the reference, and the scales written out)
+        ref_a = hertz.half_width(load, the_plan.radius, the_plan.modulus)
+        ref_p0 = hertz.peak_pressure(load, ref_a)
+    else:
+        ref_a = ref_p0 = math.nan
+    attrs = {
+        "format": "rolling_cli.result",
+        "format_version": 1,
+        "software_version": __version__,
+        "created": utc_timestamp(),
+        "title": case.title or "",
+        **_convergence_record(level, history, converged),
+        "normal_load": load,
+        "tangential_load": q,
+        "q_over_mu_p": q / (mu * load) if mu > 0.0 and load > 0.0 else math.nan,
+        "creep": float(state.creep) if effects.tangential else _free_creep(case),
+        "overlap": float(overlap),
+        "solved_overlap": float(state.overlap),
+        "mu": mu,
+        "hertz_a": ref_a,
+        "hertz_p0": ref_p0,
+        "contact_half_width": half_width,
+        "contact_centre": centre,
+        "traction_scale": float(np.max(np.abs(p_n))) if p_n.size else 0.0,
+        **_model_record(case, the_plan, system, effects, history),
+        "coupling_strength": strength or 0.0,
+        "message": "",
+        "time_influence": timings["influence"],
+        "time_solve": timings["solve"],
+        "frictional_power_total": power.total(w, dissipation),
+    }
+    attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
+    attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
+    attrs.update(_sensitivities(case, system, state, converged, half_width))
+    attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
+    visco = a.kind == "viscoelastic" or b.kind == "viscoelastic"
+    if visco:  # rolling resistance, pressure shift, hysteresis (nothing for an elastic case)
+        from ..model import resistance
+
+        attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius))
+    reference = _closed_forms(case, system.x, the_plan.radius, q, load, ref_a, ref_p0, attrs)
+    result = Result(
+        x=system.x,
+        weights=w,
+        p_n=p_n,
+        p_t=p_t,
+        delta_n=system.gap(p_n, p_t, state.overlap),
+        s_t=s_t,
+        state=states,
+        history=history,
+        reference=reference,
+        case=case,
+        frictional_power=dissipation,
+    )
+    result.record(**attrs)
+    return result
+
+
+def _model_record(case: Case, the_plan: Plan, system: ContactSystem, effects, history: list[dict]) -> dict:
+    """What was simulated and on what: mesh scale, beta (Dundurs' and the seed paper's), penalties,
+    node spacing, rolling direction, influence model, elements, effects, linear solver, unit names."""
+    a, b = case.bodies.A, case.bodies.B
+    return {
+        "mesh_half_width": the_plan.half_width,
+        "beta_dundurs": 0.5 * the_plan.beta_seed,
+        "beta_seed": the_plan.beta_seed,
+        "penalty_n": system.penalty_n,
+        "penalty_t": system.penalty_t,
+        "reference_penalty_n": system.reference_penalty_n,
+        "reference_penalty_t": system.reference_penalty_t,
+        "node_spacing": system.spacing,
+        "direction": case.rolling.direction,
+        "influence": the_plan.effects.influence,
+        "contact_elements": the_plan.grid.elements,
+        "effects": effects.to_json(),
+        **(
+            {"linear_solver": "dense LU"}  # solver/velocity.py: the slip rows' LU on every system
+            if case.friction.law != "constant" and effects.tangential
+            else _linear_solver_attributes(system, history)
+        ),
+        "effects_line": effects.line(),
+        "unit_length": case.units.length,
+        "unit_stress": case.units.stress,
+        "unit_line_force": case.units.line_force,
+        "bodies": f"A: {a.kind}, B: {b.kind}",
+    }
+
+
+def _convergence_record(level: Level, history: list[dict], converged: bool) -> dict:
+    """Whether and how the level's solve converged: iterations, relative residual, the tolerance
+    applied on this level and the strategies that ran (in order, each once)."""
+    strategies_run: list[str] = []
+    for row in history:
+        name = f"{row.get('level', '')}: {row.get('strategy', '')}"
+        if name not in strategies_run:
+            strategies_run.append(name)
+    return {
+        "converged": converged,
+        "iterations": int(level.iterations),
+        "residual": float(level.solved.evaluation.relative_residual),
+        "tolerance_applied": max(
+            [float(row["tolerance"]) for row in history if row.get("level") == level.kind and "tolerance" in row],
+            default=float(level.case.solver.tolerance),
+        ),
+        "strategies": "; ".join(strategies_run),
+    }
+
+
+def _closed_forms(
+    case: Case, x: np.ndarray, radius: float, q: float, load: float, ref_a: float, ref_p0: float, attrs: dict
+) -> dict:
+    """Hertz's pressure and Carter's traction on the nodes ``x`` [length] where they hold (elastic
+    half-spaces, exactly decoupled, with friction and a load), at the solved load [force/length]
+    and Q; Carter's creepage goes into ``attrs``. Nothing otherwise."""
+    a, b = case.bodies.A, case.bodies.B
+    mu = case.friction.mu
+    similar = (
+        effects_mod.cross_compliance(case) == 0.0
+        and a.kind not in ("layered", "viscoelastic")
+        and b.kind not in ("layered", "viscoelastic")
+        and mu > 0.0
+        and load > 0.0
+    )
+    if not similar:
+        return {}
+    ratio = float(np.clip(q / (mu * load), -1.0, 1.0))
+    attrs["carter_creep"] = carter.creepage(ratio, ref_a, radius, mu)
+    return {
+        "hertz_pressure": hertz.pressure(x, ref_a, ref_p0),
+        "carter_traction": carter.traction(x, ratio, ref_a, ref_p0, mu, case.rolling.direction),
+    }
+
+
+def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
+    """The velocity-dependent friction law's record (nothing for Coulomb friction, whose files
+    stay as they were): its name, mu_kinetic, the rolling speed and the time unit; for a solved
+    tangential problem the slope dQ/dxi of the creep-force curve at the solution (node states
+    held: :func:`~rolling_cli.solver.reduced.creep_sensitivity`, d mu/d s_a included) and the
+    branch it puts the point on: "rising" (dQ/dxi < 0: Q grows with |xi|, the stable side of the
+    curve's peak) or "falling"."""
+    from ..model.friction import from_case
+
+    law = from_case(case.friction, case.rolling)
+    if not law.velocity_dependent:
+        return {}
+    out = {
+        "friction_law": law.name,
+        "mu_kinetic": float(law.mu_kinetic),
+        "rolling_speed": float(given(case.rolling.speed, "rolling.speed")),
+        "unit_time": case.units.time,
+    }
+    if solution is not None and solution.problem.tangential:
+        from ..solver import formulation, reduced
+
+        held = solution.problem.held(force=None)
+        state = solution.state
+        try:
+            ev = formulation.evaluate(held, state, formulation.traction_scales(held, state))
+            slope = reduced.creep_sensitivity(held, state, ev)
+        except (np.linalg.LinAlgError, ValueError):  # a singular system: no slope recorded
+            return out
+        out["creep_slope"] = float(slope)
+        out["branch"] = "rising" if slope < 0.0 else "falling"
+    return out
+
+
+def _sensitivities(case: Case, system: ContactSystem, state: State, converged: bool, half_width: float) -> dict:
+    """The derivatives of a converged solve (:mod:`rolling_cli.solver.sensitivity`) and their time;
+    NaN for a failed one (its state is no solution) or a singular final matrix (a warning).
+
+    Not with a velocity-dependent friction law: its slip rows carry the d mu/d s_a term that the
+    sensitivity rows do not (NaN, said at debug level). The load homogeneity that gives the
+    P-derivatives of half-space pairs does not hold for a viscoelastic body (its time scale
+    tau V / a changes with the load), and the fixed-state ones miss the motion of the contact
+    edges (3.7 % on dxi/dP of cases/rubber_roller-like SLS case against central differences of
+    re-solves): a viscoelastic case records no P-derivatives (NaN)."""
+    from ..model import viscoelastic
+    from ..model.friction import from_case
+    from ..solver import sensitivity
+
+    t0 = time.perf_counter()
+    found = sensitivity.UNDEFINED
+    if from_case(case.friction, case.rolling).velocity_dependent:
+        log.debug("no sensitivities: the friction law depends on the slip speed")
+        converged = False
+    if converged:
+        force = case.tangential.control()[0] != "creep"
+        try:
+            similar = hertz_applies(case)
+            found = sensitivity.sensitivities(system, case.friction.mu, state, force, similar, half_width)
+        except np.linalg.LinAlgError as err:
+            log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
+    out = found.as_dict()
+    if viscoelastic.bodies(case):
+        out.update(dict.fromkeys(("dQ_dP", "dxi_dP", "da_dP", "dp0_dP"), math.nan))
+    return {**out, "time_sensitivities": time.perf_counter() - t0}
