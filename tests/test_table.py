@@ -1,4 +1,4 @@
-"""Creep-force tables (issue 24 items 2-3): rolling_cli/tabulate.py builds, rolling_cli/table.py reads.
+"""Creep-force tables (issue 24 items 2-3): rolling_cli/study/tabulate.py builds, rolling_cli/table.py reads.
 
 References: direct solves at random creepages (the table must reproduce them
 within its tolerance), a cubic polynomial (which the cubic Hermite interpolant
