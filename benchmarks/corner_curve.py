@@ -1,0 +1,69 @@
+"""Q(xi) of the strongly coupled corner (issue 23 item 4), point by point under creepage control.
+
+The issue's case: a stiff roller (R = 485, E = 991164.5, nu = 0.273) on a soft, nearly
+incompressible-free flat (E = 396.505, nu = 0.02223), mu = 2.2376 (mu |beta_Dundurs| = 1.09), P = 43.863,
+half-plane, 250 elements. Each creepage xi in 0 .. 0.04 (41 points) is solved cold and alone
+(no path, no warm start), so a point's failure is the solver's on that case, not a path's. Prints
+xi, Q/(mu P) and the Newton iterations, or the failure. Does Q(xi) fold (which would leave force
+control without a solution), or is it monotone where it converges?
+
+    python benchmarks/corner_curve.py [--points 41] [--xi-max 0.04]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import rolling_cli  # noqa: E402
+from rolling_cli.case import load_case, with_overrides  # noqa: E402
+from rolling_cli.errors import RollingError  # noqa: E402
+
+CASE = {
+    "bodies": {
+        "A": {"kind": "elastic", "radius": 485.0, "young": 991164.5, "poisson": 0.2730},
+        "B": {"kind": "elastic", "radius": math.inf, "young": 396.505, "poisson": 0.02223},
+    },
+    "friction": {"mu": 2.2376},
+    "normal": {"load": 43.863},
+    "tangential": {"creep": 0.0},
+    "rolling": {"direction": 1},
+    "discretization": {"influence": "half-plane", "contact_elements": 250},
+}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=41)
+    parser.add_argument("--xi-max", type=float, default=0.04)
+    args = parser.parse_args()
+    base = load_case(CASE)
+    t0 = time.perf_counter()
+    converged = []
+    print("| xi | Q/(mu P) | Newton iterations |\n|---:|---:|---:|")
+    for xi in np.linspace(0.0, args.xi_max, args.points):
+        case = with_overrides(base, {"tangential.creep": float(xi)})
+        try:
+            result = rolling_cli.solve(case)
+        except RollingError as err:
+            print(f"| {xi:.4f} | failed | {str(err).split(';')[0][:70]} |")
+            continue
+        converged.append((xi, result.q_over_mu_p))
+        print(f"| {xi:.4f} | {result.q_over_mu_p:+.5f} | {result.iterations} |")
+    q = np.array([c[1] for c in converged])
+    monotone = bool(np.all(np.diff(q) < 0.0))
+    print(
+        f"\n{len(converged)} of {args.points} converged; Q/(mu P) monotone over them: {monotone}; "
+        f"{time.perf_counter() - t0:.0f} s"
+    )
+
+
+if __name__ == "__main__":
+    main()
