@@ -353,8 +353,9 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
     the creepage where the first node's slip reaches zero (:func:`_full_slip_edge`), so the bracket end
     moves there at no cost. Near full slip the root lies just short of that edge,
     where Q - Q_target falls steeply: Newton steps from the other side overshoot it
-    and bisection took a dozen solves more (issue 26: the small-friction coupled
-    family, 15-25 iterations less a case, benchmarks/RESULTS.md). Stops when the force
+    and bisection took a dozen solves more (issue 26: 40 cases of the small-friction
+    coupled family took 2638 iterations, 8 of them over 100; now 1233, at most 66:
+    benchmarks/RESULTS.md). Stops when the force
     residual is below the tolerance (the inner solve converged too); raises when the
     bracket closes to round-off without that (Q jumps) or the budget is spent.
 
