@@ -86,8 +86,8 @@ SMALLEST_FRICTION = {
 
 def test_smallest_friction_near_full_slip_within_the_default_budget():
     """mu = 1.1e-4, beta_Dundurs = -0.29: only the creepage root solves it (the coupled Newton
-    stagnates); it took 110 iterations with the bisection near the full-slip edge, 76 with the edge
-    and the regula falsi (strategies._creep_root)."""
+    stagnates); it took 110 iterations with the bisection near the full-slip edge, 41 with the edge,
+    the jump to the onset of full slip and the regula falsi (strategies._creep_root)."""
     r = solve(case_dict(**SMALLEST_FRICTION))
     assert r.converged and r.iterations_total <= 100  # the default solver.max_iterations
     assert_contact_laws(r, r.tolerance_applied)

@@ -319,8 +319,9 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
     the creepage where the first node's slip reaches zero (:func:`_full_slip_edge`), so the bracket end
     moves there at no cost. Near full slip the root lies just short of that edge,
     where Q - Q_target falls steeply: Newton steps from the other side overshoot it
-    and bisection took a dozen solves more (issue 26: the small-friction coupled
-    family, 15-25 iterations less a case, benchmarks/RESULTS.md). Stops when the force
+    and bisection took a dozen solves more (issue 26: 40 cases of the small-friction
+    coupled family took 2638 iterations, 8 of them over 100; now 1233, at most 66:
+    benchmarks/RESULTS.md). Stops when the force
     residual is below the tolerance (the inner solve converged too); raises when the
     bracket closes to round-off without that (Q jumps) or the budget is spent.
 
@@ -338,21 +339,29 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
     current = state.copy()
     step = None
     jumped = False
+    fallback = None  # after a jump: the state and expansion step to retry if its solve fails
     last_f = None
     solved: list[tuple[float, Solution]] = []
     predict = _predict(system.x, task.mu)
     for _ in range(200):
         xi = current.creep
-        if solved:  # start from the boundary secant of the two solved creepages nearest to xi
+        if solved and fallback is None:  # start from the boundary secant of the two solved creepages nearest to xi
             near = sorted(solved, key=lambda point: abs(point[0] - xi))[:2]
             near.sort(key=lambda point: abs(point[0] - xi), reverse=True)
             if len(near) == 2 and near[0][0] == near[1][0]:
                 near = near[1:]
             current = predict(near, xi)
             current.creep = xi
-        inner = run_newton(
-            held, current, task.tolerance, budget, name, f"creepage held, xi = {xi:.6e}", False, globalisation
-        )
+        try:
+            inner = run_newton(
+                held, current, task.tolerance, budget, name, f"creepage held, xi = {xi:.6e}", False, globalisation
+            )
+        except StrategyFailed:
+            if fallback is None or budget.exhausted:
+                raise
+            current, fallback = fallback, None  # the jump failed: expand from the last solution instead
+            continue
+        fallback = None
         solved.append((xi, inner))
         current = inner.state
         target, _ = problem.force_target(current.p_n)
@@ -413,9 +422,20 @@ def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, glob
             target, _ = problem.force_target(current.p_n)
             if not jumped and (f > 0.0) == (target < 0.0):  # the target's full slip lies beyond the root
                 jumped = True
-                proposal = _full_slip_onset(system, current, task.mu, 1.0 if target > 0.0 else -1.0)
-                if proposal is not None and not (proposal - xi) * f > 0.0:
-                    proposal = None
+                sigma = 1.0 if target > 0.0 else -1.0
+                proposal = _full_slip_onset(system, current, task.mu, sigma)
+                if proposal is not None and (proposal - xi) * f > 0.0:
+                    elastic = np.abs(system.slip(current.p_n, current.p_t, 0.0)[current.p_n < 0.0])
+                    step = 1e-3 * max(abs(xi), float(elastic.max()) if elastic.size else 0.0, 1e-12)
+                    fallback = current.copy()
+                    fallback.creep = xi + step if f > 0.0 else xi - step
+                    jump = current.copy()  # started from that full slip, the solution if the estimate holds
+                    jump.p_t = np.where(current.p_n < 0.0, -sigma * task.mu * current.p_n, 0.0)
+                    jump.creep = proposal
+                    current = jump
+                    last_f = f
+                    continue
+                proposal = None
             if proposal is None:
                 elastic = np.abs(system.slip(current.p_n, current.p_t, 0.0)[current.p_n < 0.0])
                 scale_xi = max(abs(xi), float(elastic.max()) if elastic.size else 0.0, 1e-12)
