@@ -66,3 +66,11 @@ def test_the_file_carries_each_quantity_s_declaration(tmp_path):
     recorded = dict(result.attributes)
     assert recorded["creep"] == result.creep and recorded["converged"] is True
     assert set(recorded) <= set(QUANTITIES)
+
+
+def test_the_result_holds_every_declared_group():
+    """The Result's bases and the groups the file lists are two lists of the same groups."""
+    from rolling_cli.result import Result
+    from rolling_cli.result.quantities import GROUPS
+
+    assert set(Result.__bases__) == set(GROUPS)

@@ -200,21 +200,7 @@ def coupling_path(task: Task, start: State, budget: Budget, cold: bool = False, 
         )
         return solution, budget.taken - before
 
-    points = [(0.0, first)]
-    try:
-        continuation.follow(
-            [1.0],
-            solve_at,
-            _predict(task.system.x, task.mu),
-            points,
-            failure=StrategyFailed,
-            control=continuation.StepControl(),
-            budget=budget,
-        )
-    except continuation.ContinuationFailed as err:
-        best = err.best.state if err.best is not None else None
-        raise StrategyFailed("coupling path", f"kappa = {err.parameter:.4g}", err.reason, best, err.residual) from None
-    return points[-1][1]
+    return _follow("coupling path", "kappa", [1.0], solve_at, first, task, budget)
 
 
 #: The strengths the law path walks through (each from the secant of the last two).
@@ -253,10 +239,17 @@ def law_path(task: Task, start: State, budget: Budget, cold: bool = False, globa
         )
         return solution, budget.taken - before
 
+    return _follow("law path", "lambda", LAW_STEPS, solve_at, first, task, budget)
+
+
+def _follow(name: str, symbol: str, targets, solve_at, first: Solution, task: Task, budget: Budget) -> Solution:
+    """Continuation from ``first`` (the solution at parameter 0) through ``targets`` by ``solve_at``,
+    each step from the boundary-secant prediction; a failure is the strategy ``name``'s, at
+    ``symbol`` = the parameter it reached."""
     points = [(0.0, first)]
     try:
         continuation.follow(
-            LAW_STEPS,
+            targets,
             solve_at,
             _predict(task.system.x, task.mu),
             points,
@@ -266,7 +259,7 @@ def law_path(task: Task, start: State, budget: Budget, cold: bool = False, globa
         )
     except continuation.ContinuationFailed as err:
         best = err.best.state if err.best is not None else None
-        raise StrategyFailed("law path", f"lambda = {err.parameter:.4g}", err.reason, best, err.residual) from None
+        raise StrategyFailed(name, f"{symbol} = {err.parameter:.4g}", err.reason, best, err.residual) from None
     return points[-1][1]
 
 
