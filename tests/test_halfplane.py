@@ -94,6 +94,22 @@ def test_pair_is_sum_of_bodies_and_coupling_cancels_for_identical_bodies():
     assert halfplane.pair_compliance(grid, 6e4, 0.31, 2.1e5, 0.28, coupling=False).S_nt is None
 
 
+def test_the_influence_takes_material_values():
+    """The builder's Material interface is the numeric one: identical blocks (the same arithmetic),
+    None is a rigid body, and a viscoelastic material is refused (its kernels are another module's)."""
+    from rolling_cli.model.viscoelastic import elastic, standard_linear_solid
+
+    grid = ContactGrid(half_width=1.0, elements=10, order=2)
+    by_value = halfplane.materials_pair(grid, elastic(6e4, 0.31), elastic(2.1e5, 0.28))
+    by_number = halfplane.pair_compliance(grid, 6e4, 0.31, 2.1e5, 0.28)
+    for name in ("S_nn", "S_tt", "S_nt"):
+        assert np.array_equal(getattr(by_value, name), getattr(by_number, name))
+    rigid = halfplane.materials_pair(grid, None, elastic(2.1e5, 0.28))
+    assert np.array_equal(rigid.S_nn, halfplane.pair_compliance(grid, np.inf, 0.0, 2.1e5, 0.28).S_nn)
+    with pytest.raises(ValueError, match="SLS"):
+        halfplane.materials_pair(grid, standard_linear_solid(20.0, 10.0, 0.01, 0.3), None)
+
+
 def _graded(elements, order, seed=4):
     lengths = 10.0 ** np.random.default_rng(seed).uniform(-2.0, 0.0, elements)  # lengths within 100x
     return ContactGrid.graded(np.concatenate([[0.0], np.cumsum(lengths)]) - 0.4, order)

@@ -202,7 +202,7 @@ def test_operators_give_the_dense_blocks_products():
 
     grid = ContactGrid(3.0, 64, 0)
     model = viscoelastic.standard_linear_solid(20.0, 10.0, 0.01, 0.3)
-    bodies = [(None, 210.0, 0.3), (model, 20.0, 0.3)]
+    bodies = [viscoelastic.elastic(210.0, 0.3), model]
     dense = kernels.pair_compliance(grid, bodies, 100.0, -1, operators=False)
     ops = kernels.pair_compliance(grid, bodies, 100.0, -1, operators=True)
     p = np.random.default_rng(1).normal(size=grid.size)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..influence import halfplane
+from ..model.viscoelastic import material
 
 
 def graded_compliance(case, the_plan):
@@ -19,7 +20,7 @@ def graded_compliance(case, the_plan):
     if effects.influence != "half-plane":
         raise ValueError("graded_compliance builds the half-plane model; the BEM's goes through influence.build")
     a, b = case.bodies.A, case.bodies.B
-    return halfplane.pair_compliance(the_plan.grid, a.modulus, a.ratio, b.modulus, b.ratio, effects.coupling)
+    return halfplane.materials_pair(the_plan.grid, material(a), material(b), effects.coupling)
 
 
 def difference_roundoff(system, mu: float) -> float:

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..model.grid import ContactGrid
 from ..model.viscoelastic import bodies as viscoelastic_bodies
-from ..model.viscoelastic import from_body
+from ..model.viscoelastic import material
 from . import Compliance, combine, halfplane
 
 if TYPE_CHECKING:  # the BEM package (and scipy.linalg) is imported only when a BEM body is built
@@ -46,13 +46,13 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
     "closed form")."""
     a, b = case.bodies.A, case.bodies.B
     coupling = the_plan.effects.coupling
-    if the_plan.effects.influence == "half-plane" and viscoelastic_bodies(case):
-        pair = _viscoelastic(
-            the_plan.grid, _body_key(a), _body_key(b), float(case.rolling.speed), case.rolling.direction, coupling
-        )
-        return pair, {"A": "closed form", "B": "closed form"}
     if the_plan.effects.influence == "half-plane":
-        pair = _halfplane(the_plan.grid, a.modulus, a.ratio, b.modulus, b.ratio, coupling)
+        materials = (material(a), material(b))
+        if viscoelastic_bodies(case):
+            speed = float(case.rolling.speed)
+            pair = _viscoelastic(the_plan.grid, *materials, speed, case.rolling.direction, coupling)
+        else:
+            pair = _halfplane(the_plan.grid, *materials, coupling)
         return pair, {"A": "closed form", "B": "closed form"}
     origin = {}
     bodies: dict[str, Compliance | None] = {}
@@ -94,10 +94,12 @@ def bem_inputs(case, the_plan, body) -> dict:
             "half_width": disc.block_width * the_plan.half_width,
             "depth": disc.block_depth * the_plan.half_width,
         }
+    elastic = material(body)  # a layered body's: its layer's
+    assert elastic is not None and elastic.elastic, "a BEM body is elastic (the case checks refuse others)"
     inputs = {
         "kind": body.kind,
-        "young": float(body.young),
-        "poisson": float(body.poisson),
+        "young": elastic.young,
+        "poisson": elastic.poisson,
         "zone_half_width": grid.half_width,
         "elements": grid.elements,
         **geometry,
@@ -213,20 +215,12 @@ def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarr
 
 
 @functools.lru_cache(maxsize=8)
-def _halfplane(grid, young_a, poisson_a, young_b, poisson_b, coupling) -> Compliance:
-    return halfplane.pair_compliance(grid, young_a, poisson_a, young_b, poisson_b, coupling)
-
-
-def _body_key(body) -> tuple | None:
-    """A half-plane body for :func:`.viscoelastic.pair_compliance`: None (rigid) or (creep model or
-    None, young [stress], poisson), hashable."""
-    if body.rigid:
-        return None
-    return (from_body(body), body.modulus, body.ratio)
+def _halfplane(grid, material_a, material_b, coupling) -> Compliance:
+    return halfplane.materials_pair(grid, material_a, material_b, coupling)
 
 
 @functools.lru_cache(maxsize=8)
-def _viscoelastic(grid, body_a, body_b, speed, direction, coupling) -> Compliance:
+def _viscoelastic(grid, material_a, material_b, speed, direction, coupling) -> Compliance:
     from . import viscoelastic
 
-    return viscoelastic.pair_compliance(grid, [body_a, body_b], speed, direction, coupling)
+    return viscoelastic.pair_compliance(grid, [material_a, material_b], speed, direction, coupling)

@@ -30,6 +30,7 @@ import numpy as np
 from ..model import materials
 from ..model.grid import NODE_COORDINATES, ContactGrid, shape_coefficients, shape_integrals
 from ..model.kernels import log_moments, sign_moments
+from ..model.viscoelastic import Material
 from . import Compliance
 
 
@@ -184,6 +185,30 @@ def pair_compliance(
     e_star = materials.effective_modulus(young_a, poisson_a, young_b, poisson_b)
     cross = materials.kalker_k_over_g(young_a, poisson_a, young_b, poisson_b)
     return _compliance(grid, direct=2.0 / (np.pi * e_star), cross=cross, coupling=coupling, operators=operators)
+
+
+def materials_pair(
+    grid: ContactGrid,
+    material_a: Material | None,
+    material_b: Material | None,
+    coupling: bool = True,
+    operators: bool | None = None,
+) -> Compliance:
+    """:func:`pair_compliance` of two elastic :class:`~rolling_cli.model.viscoelastic.Material`
+    values (None: a rigid body) [length/stress]. A material with retardation terms is refused
+    (its steady-rolling kernels are :mod:`.viscoelastic`'s)."""
+    constants = [elastic_constants(m) for m in (material_a, material_b)]
+    return pair_compliance(grid, *constants[0], *constants[1], coupling=coupling, operators=operators)
+
+
+def elastic_constants(material: Material | None) -> tuple[float, float]:
+    """(E [stress], nu [-]) of an elastic material; (inf, 0) for None, a rigid body (its compliance
+    1/inf = 0 drops out of every formula)."""
+    if material is None:
+        return math.inf, 0.0
+    if not material.elastic:
+        raise ValueError(f"a {material.label} material has no elastic half-plane kernel")
+    return material.young, material.poisson
 
 
 def _compliance(grid: ContactGrid, direct: float, cross: float, coupling: bool, operators: bool | None) -> Compliance:

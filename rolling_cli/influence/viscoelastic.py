@@ -50,7 +50,7 @@ import math
 import numpy as np
 
 from ..model.grid import ContactGrid
-from ..model.viscoelastic import Viscoelastic
+from ..model.viscoelastic import Material, Viscoelastic
 from . import Block, Compliance
 from .halfplane import _length_scale, _toeplitz_gather, use_operators
 
@@ -258,14 +258,13 @@ def history_lengths(model: Viscoelastic, speed: float, direction: int) -> tuple[
     return tuple(-float(direction) * ell for ell in model.lengths(speed))
 
 
-def body_offsets(
-    grid: ContactGrid, model: Viscoelastic | None, young: float, poisson: float, speed: float, direction: int
-) -> tuple[np.ndarray, np.ndarray]:
+def body_offsets(grid: ContactGrid, model: Material, speed: float, direction: int) -> tuple[np.ndarray, np.ndarray]:
     """(direct, cross) element-offset blocks [length/stress] of one half-plane body, shape
     (2 N_e - 1, m, m) (m nodes per element; indexed as :func:`~.halfplane.log_offsets`): the response
     at node a of element e + o to a unit traction at node k of element e.
 
-    ``model`` None is an elastic body of ``young`` [stress]; a viscoelastic one is J-weighted.
+    An elastic ``model`` (no retardation terms) gives the elastic kernels over its E; a viscoelastic one
+    is J-weighted.
     Constant elements use the closed forms :func:`log_element` and :func:`sign_element`, quadratic
     ones :func:`quadratic_offsets`.
     """
@@ -287,8 +286,8 @@ def body_offsets(
             return quadratic_offsets(grid, b, scale)
 
     log_k, sign_k = kernels(0.0)
-    if model is None:
-        log_k, sign_k, nu = log_k / young, sign_k / young, poisson
+    if model.elastic:
+        log_k, sign_k, nu = log_k / model.young, sign_k / model.young, model.poisson
     else:
         log_k, sign_k, nu = model.glassy * log_k, model.glassy * sign_k, model.poisson
         for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True):
@@ -300,7 +299,7 @@ def body_offsets(
 
 def pair_compliance(
     grid: ContactGrid,
-    bodies: list[tuple[Viscoelastic | None, float, float] | None],
+    bodies: list[Material | None],
     speed: float,
     direction: int,
     coupling: bool = True,
@@ -308,8 +307,8 @@ def pair_compliance(
 ) -> Compliance:
     """Compliance of a half-plane pair with viscoelastic bodies [length/stress].
 
-    ``bodies``: for A and B, ``None`` (rigid) or (model, young, poisson), model None for an elastic
-    body. ``speed`` |V| [length/time], ``direction`` sgn(V). Direct blocks add, cross blocks
+    ``bodies``: the materials of A and B, ``None`` for a rigid body (an elastic material has no
+    retardation terms). ``speed`` |V| [length/time], ``direction`` sgn(V). Direct blocks add, cross blocks
     subtract (as :func:`rolling_cli.influence.combine`); the blocks are dense, or block-Toeplitz
     operators with the same entries (``operators``; None: :func:`~.halfplane.use_operators`).
     """
@@ -319,7 +318,7 @@ def pair_compliance(
     for sign, body in zip((1.0, -1.0), bodies, strict=True):
         if body is None:
             continue
-        d, c = body_offsets(grid, body[0], body[1], body[2], speed, direction)
+        d, c = body_offsets(grid, body, speed, direction)
         direct += d
         cross += sign * c
     if operators is None:

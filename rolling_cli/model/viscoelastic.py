@@ -38,15 +38,25 @@ from ..errors import CaseError
 
 @dataclass(frozen=True)
 class Viscoelastic:
-    """Creep compliance of a body: ``glassy`` = 1/E_g [1/stress], ``compliances`` c_i
-    [1/stress] and ``times`` lambda_i [time] of the retardation terms, ``poisson`` nu [-]
-    (constant in time), ``label`` "SLS" or "Prony (N terms)"."""
+    """Creep compliance of a body: ``young`` = E_g, the glassy (instantaneous) modulus [stress],
+    ``compliances`` c_i [1/stress] and ``times`` lambda_i [time] of the retardation terms,
+    ``poisson`` nu [-] (constant in time), ``label`` "elastic", "SLS" or "Prony (N terms)"."""
 
-    glassy: float
+    young: float
     compliances: tuple[float, ...]
     times: tuple[float, ...]
     poisson: float
     label: str = "SLS"
+
+    @property
+    def glassy(self) -> float:
+        """J(0) = 1/E_g [1/stress]."""
+        return 1.0 / self.young
+
+    @property
+    def elastic(self) -> bool:
+        """True without retardation terms: J(t) = 1/E at all times."""
+        return not self.compliances
 
     @property
     def relaxed(self) -> float:
@@ -56,12 +66,12 @@ class Viscoelastic:
     @property
     def glassy_young(self) -> float:
         """E_g [stress]."""
-        return 1.0 / self.glassy
+        return self.young
 
     @property
     def relaxed_young(self) -> float:
-        """E_r [stress]."""
-        return 1.0 / self.relaxed
+        """E_r [stress] (E itself for an elastic material)."""
+        return self.young if self.elastic else 1.0 / self.relaxed
 
     def creep(self, t) -> np.ndarray:
         """J(t) [1/stress] at times ``t`` [time] (t >= 0)."""
@@ -83,7 +93,7 @@ class Viscoelastic:
 def standard_linear_solid(glassy_young: float, relaxed_young: float, creep_time: float, poisson: float) -> Viscoelastic:
     """The SLS of E_g, E_r [stress] and the creep (retardation) time tau_c [time]."""
     c = 1.0 / relaxed_young - 1.0 / glassy_young
-    return Viscoelastic(1.0 / glassy_young, (c,), (float(creep_time),), float(poisson), "SLS")
+    return Viscoelastic(float(glassy_young), (c,), (float(creep_time),), float(poisson), "SLS")
 
 
 def prony_relaxation(glassy_young: float, terms, poisson: float) -> Viscoelastic:
@@ -122,7 +132,7 @@ def prony_relaxation(glassy_young: float, terms, poisson: float) -> Viscoelastic
         compliances.append(1.0 / (rho * slope(rho)))
         times.append(1.0 / rho)
     label = f"Prony ({len(taus)} term{'s' if len(taus) > 1 else ''})"
-    return Viscoelastic(1.0 / glassy_young, tuple(compliances), tuple(times), float(poisson), label)
+    return Viscoelastic(float(glassy_young), tuple(compliances), tuple(times), float(poisson), label)
 
 
 #: The material of a deformable body: its creep compliance J(t) at a constant Poisson ratio. A linear
@@ -132,7 +142,7 @@ Material = Viscoelastic
 
 def elastic(young: float, poisson: float) -> Material:
     """The linear elastic material of Young's modulus E [stress] and Poisson ratio nu [-]: J(t) = 1/E."""
-    return Viscoelastic(1.0 / float(young), (), (), float(poisson), "elastic")
+    return Viscoelastic(float(young), (), (), float(poisson), "elastic")
 
 
 def material(body) -> Material | None:
