@@ -123,7 +123,7 @@ def test_overrides_revalidate_and_replace_exclusive_keys():
         ("solver.penalty", 1e-31, "solver.penalty = 1e-31: out of range"),
         ("title", "two\nlines", 'title = "two\\nlines": control characters'),
         ("title", "x" * 1001, "too long (1001 characters); allowed: a string of at most 1000 characters"),
-        ("units.force", "N\0", "units.force = \"N\\x00\": control characters"),
+        ("units.force", "N\0", 'units.force = "N\\x00": control characters'),
     ],
 )
 def test_meaningful_ranges(key, value, expect):
