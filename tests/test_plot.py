@@ -108,3 +108,43 @@ def test_plot_refuses_to_replace_a_figure_unless_asked(tmp_path):
     assert figure.read_bytes() == b"my own picture"
     assert runner.invoke(main, ["plot", str(path), "--overwrite"]).exit_code == 0
     assert figure.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_branch_segments_split_at_the_slope_sign_and_find_the_turn():
+    """Q(xi) = xi exp(-xi/x0) on xi in [-3 x0, 0]: dQ/dxi = (1 - xi/x0) exp(-xi/x0) > 0 everywhere
+    there (unstable), and on [0, 3 x0]: zero at xi = x0 (the turn). The slope is interpolated
+    linearly between the points around the sign change: its error is O(h^2 |s''/s'|) = O(h^2)/x0
+    for spacing h = 3 x0 / 30 (1.2e-2 x0 at most; 0.02 x0 allowed)."""
+    import numpy as np
+
+    from rolling_cli.report.plot import branch_segments
+
+    x0 = 2e-3
+    xi = np.linspace(0.0, 3.0 * x0, 31)[::-1]  # any order
+    q = xi * np.exp(-xi / x0)
+    slope = (1.0 - xi / x0) * np.exp(-xi / x0)
+    segments, turns = branch_segments(xi, q, slope)
+    assert [stable for _, _, stable in segments] == [False, True]
+    assert segments[0][0][-1] == segments[1][0][0]  # the runs share their boundary point
+    assert sum(len(s[0]) for s in segments) == len(xi) + 1
+    assert len(turns) == 1 and abs(turns[0][0] - x0) < 0.02 * x0
+    assert turns[0][1] == pytest.approx(x0 / np.e, rel=1e-2)  # the nearer point's Q: O(h^2) below the peak
+    coulomb, none = branch_segments(xi, q, np.full_like(xi, np.nan))  # no slope recorded: one stable run
+    assert [s[2] for s in coulomb] == [True] and none == []
+
+
+def test_falling_friction_curve_draws_its_unstable_branch_dashed(tmp_path):
+    """A creep curve on the exponential law crosses the peak of |Q|: the plot has a solid (stable)
+    and a dashed (unstable) run and one turning point on each side of xi = 0."""
+    base = load_case("cases/falling_exponential.toml")
+    import dataclasses
+
+    base = dataclasses.replace(base, discretization=dataclasses.replace(base.discretization, contact_elements=60))
+    path = str(tmp_path / "falling.h5")
+    sweep.run(base, sweep.curve_spec(base, "creep", 13), path)
+    fig = plot_file(path, str(tmp_path / "falling.png"))
+    styles = {line.get_linestyle() for line in fig.axes[1].get_lines()}
+    assert {"-", "--"} <= styles
+    turns = [line for line in fig.axes[1].get_lines() if line.get_marker() == "D"]
+    assert len(turns) == 1 and len(turns[0].get_xdata()) == 2
+    assert turns[0].get_xdata()[0] < 0.0 < turns[0].get_xdata()[1]

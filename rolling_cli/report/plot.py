@@ -10,7 +10,9 @@
   quantity is swept, also the creep-force curve Q/(mu P) against the creepage:
   one line per group of cases with equal values of the other swept keys (a
   family of curves, ``rollc sweep --curve creep --set friction.mu=...``),
-  labelled ``key = value`` in its legend.
+  labelled ``key = value`` in its legend. With friction that falls with the
+  slip speed the stable branch (dQ/dxi < 0) is drawn solid, the unstable one
+  dashed, and the turning points (the peaks of |Q|) are marked.
 
 Files of format 1 are converted to the current layout first
 (:mod:`rolling_cli.files.legacy`), so one reader serves both.
@@ -121,7 +123,7 @@ def sweep_figure(handle, show: bool = False) -> Figure:
     cases, and the creep-force curve when a tangential key is swept."""
     names = swept_names(handle)
     keys = list(names)
-    table = case_table(handle, ["converged", "creep", "q_over_mu_p", *names.values()])
+    table = case_table(handle, ["converged", "creep", "q_over_mu_p", "creep_slope", *names.values()])
     rows = np.flatnonzero(table["converged"]) if "converged" in table else np.array([], dtype=int)
     step = int(np.ceil(len(rows) / 12)) if len(rows) > 12 else 1  # at most 12 curves stay readable
     results = [read_case(handle, int(row)) for row in rows[::step]]
@@ -146,20 +148,66 @@ def sweep_figure(handle, show: bool = False) -> Figure:
         others = [k for k in keys if k not in TANGENTIAL_KEYS]  # the keys not on the x axis: one line each
         groups = curve_groups([table[names[k]][rows] for k in others], len(rows))
         colours = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.9, max(len(groups), 1)))
+        slopes = table.get("creep_slope")
         for members, colour in zip(groups, colours, strict=True):
             creep, q = table["creep"][rows[members]], table["q_over_mu_p"][rows[members]]
-            order = np.argsort(creep, kind="stable")
+            slope = slopes[rows[members]] if slopes is not None else np.full(len(members), np.nan)
             legend = ", ".join(f"{k} = {_fmt(table[names[k]][rows[members[0]]])}" for k in others) or None
-            ax2.plot(creep[order], q[order], "o-", ms=3, color=colour, label=legend)
+            _draw_curve(ax2, creep, q, slope, colour, legend)
         ax2.set_xlabel(r"creepage $\xi = (V_A - V_B)/|V|$ [-]")
         ax2.set_ylabel(r"$Q/(\mu P)$ [-]")
         ax2.set_title("creep-force curve" + ("s" if len(groups) > 1 else ""), fontsize=9)
-        if others:
+        if ax2.get_legend_handles_labels()[0]:
             ax2.legend(fontsize=7)
         ax2.axhline(0, color="0.6", lw=0.8)
         ax2.axvline(0, color="0.6", lw=0.8)
         ax2.grid(True, alpha=0.3)
     return fig
+
+
+def _draw_curve(ax, creep: np.ndarray, q: np.ndarray, slope: np.ndarray, colour, legend: str | None) -> None:
+    """One creep-force curve: stable runs solid, unstable ones dashed, turning points marked."""
+    segments, turns = branch_segments(creep, q, slope)
+    unstable_named = legend is not None  # a family's legend names the curves, not the line styles
+    for k, (xs, qs, stable) in enumerate(segments):
+        label = legend if k == 0 else None
+        if not stable and not unstable_named:
+            label, unstable_named = "unstable (dQ/dxi > 0)", True
+        ax.plot(xs, qs, "o-" if stable else "o--", ms=3, color=colour, label=label)
+    if turns:
+        xs, qs = zip(*turns, strict=True)
+        ax.plot(xs, qs, "D", ms=6, mfc="none", color=colour, label="turning point" if legend is None else None)
+
+
+def branch_segments(creep, q, slope) -> tuple[list[tuple[np.ndarray, np.ndarray, bool]], list[tuple[float, float]]]:
+    """The creep-force curve's points ``creep`` xi [-], ``q`` Q/(mu P) [-] with their slopes
+    dQ/dxi [force/length] (NaN: not recorded) split into runs of one stability, in creepage order.
+
+    A point is stable where Q falls as xi rises, dQ/dxi < 0 (the "rising" branch: |Q| grows with
+    |xi| in the project's sign convention, Q > 0 for xi < 0; Vollebregt & Schuttelaars 2012); a
+    NaN slope counts as stable (Coulomb friction has no falling branch). Neighbouring runs share
+    their boundary point so the drawn line is continuous. The turning points (xi, Q) are where the
+    slope changes sign, by linear interpolation of the slope between the two points around it.
+    Returns ([(xi, Q, stable), ...], [(xi_turn, Q_turn), ...]).
+    """
+    order = np.argsort(np.asarray(creep, dtype=float), kind="stable")
+    x, y, s = (np.asarray(v, dtype=float)[order] for v in (creep, q, slope))
+    stable = ~(s >= 0.0)  # NaN -> stable
+    if not len(x):
+        return [], []
+    cuts = np.flatnonzero(stable[1:] != stable[:-1]) + 1
+    segments, start = [], 0
+    for cut in [*cuts, len(x)]:
+        stop = min(cut + 1, len(x))  # share the boundary point with the next run
+        segments.append((x[start:stop], y[start:stop], bool(stable[start])))
+        start = cut
+    turns = []
+    for cut in cuts:
+        i, j = cut - 1, cut
+        if np.isfinite(s[i]) and np.isfinite(s[j]) and s[i] != s[j]:
+            t = s[i] / (s[i] - s[j])  # the slope's zero between the two points
+            turns.append((float(x[i] + t * (x[j] - x[i])), float(max(y[i], y[j], key=abs))))
+    return segments, turns
 
 
 def curve_groups(columns: list[np.ndarray], count: int) -> list[np.ndarray]:
