@@ -353,7 +353,8 @@ def table(ctx, case_file, output, tolerance, span, friction, overwrite, no_cache
 @click.option(
     "--curve",
     type=click.Choice(["load", "creep"]),
-    help="Creep-force curve: sweep Q/(mu P) over -0.99..0.99, or the creepage over 1.5x full slip; "
+    help="Creep-force curve: sweep Q/(mu P) over -0.99..0.99 (with falling friction: through both turning "
+    "points, both branches), or the creepage over 1.5x full slip; "
     "with --set, one curve per combination of the set values (a family).",
 )
 @click.option("--points", type=click.IntRange(2, 10000), default=41, show_default=True, help="Points of --curve.")

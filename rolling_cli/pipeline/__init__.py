@@ -94,11 +94,18 @@ def solve(
         log.warning(warning)
     path = MeshPath(case, base, system, start, use_cache, compare_start=compare_start)
     try:
-        final = path.run()
-    except _LevelFailed as failed:
-        return _failure(failed.level, failed.error, path, keep_failed)
-    if final.failure is not None:
-        return _failure(final, final.failure, path, keep_failed)
+        try:
+            final = path.run()
+        except _LevelFailed as failed:
+            return _failure(failed.level, failed.error, path, keep_failed)
+        if final.failure is not None:
+            return _failure(final, final.failure, path, keep_failed)
+    except ConvergenceError:
+        if base.effects.tangential and case.friction.law != "constant":
+            from .branches import beyond_the_peak
+
+            beyond_the_peak(case, solve, prepare)  # raises when the force is beyond the curve's peak
+        raise
     if final.touches_edge:
         raise _zone_error(final)
     result = assemble(final, path.history, path.timings)

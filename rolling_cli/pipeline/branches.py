@@ -51,7 +51,7 @@ def on_branch(case: Case, result: Result, solve: Callable[..., Result], prepare:
     system that ``prepare(case)`` builds (the pipeline's own, passed in: this module runs below it).
     Raises ConvergenceError when that branch does not carry the force."""
     wanted = BRANCHES[case.solver.branch]
-    if result.branch == wanted:
+    if result.branch == wanted or result.branch is None:  # None: no tangential problem (free rolling)
         return result
     auto = dataclasses.replace(case, solver=dataclasses.replace(case.solver, branch="auto"))
     the_plan, system = prepare(auto)
@@ -76,6 +76,8 @@ def on_branch(case: Case, result: Result, solve: Callable[..., Result], prepare:
         if current.branch == wanted:
             lowest = min(lowest, (q, xi_next))
             if q <= target:
+                if previous.branch != wanted:  # the step crossed the peak: bracket from the peak, not
+                    previous = turning_point(previous, current, at)  # from the other branch's side
                 crossing = (previous, current)
                 break
         previous, xi = current, xi_next
@@ -129,3 +131,109 @@ def _falsi(crossing: tuple[Result, Result], target: float, scale: float, at) -> 
                 f_left *= 0.5
             side = 1
     return best
+
+
+#: The turning point is closed to this fraction of its creepage: |Q| there is then within
+#: (1/2) |Q''| dxi^2 ~ 1e-6 |Q| of the peak's (Q'' ~ |Q| / xi^2 on a curve that peaks at xi).
+PEAK_TOLERANCE = 1e-3
+
+
+def _slope(result: Result) -> float:
+    return float(recorded(result.creep_slope, "creep_slope"))
+
+
+def _q(result: Result) -> float:
+    return abs(float(recorded(result.tangential_load, "tangential_load")))
+
+
+def turning_point(one: Result, other: Result, at: Callable[[float, State], Result]) -> Result:
+    """The creepage-controlled solution nearest the peak of |Q(xi)| [force/length] between two
+    solutions on opposite branches (one rising, dQ/dxi < 0; one falling), by the Illinois regula falsi
+    on the recorded slope dQ/dxi; ``at(xi, start)`` solves at creepage xi. Returns the solution of
+    largest |Q| met once the bracket is within :data:`PEAK_TOLERANCE` of its creepage."""
+    rising, falling = (one, other) if one.branch == "rising" else (other, one)
+    x_r, s_r = float(recorded(rising.creep, "creep")), _slope(rising)
+    x_f, s_f = float(recorded(falling.creep, "creep")), _slope(falling)
+    best = max((rising, falling), key=_q)
+    side = 0
+    for _ in range(FALSI_STEPS):
+        if abs(x_f - x_r) <= PEAK_TOLERANCE * max(abs(x_r), abs(x_f)):
+            break
+        xi = (x_r * s_f - x_f * s_r) / (s_f - s_r)
+        if not (math.isfinite(xi) and min(x_r, x_f) < xi < max(x_r, x_f)):
+            xi = 0.5 * (x_r + x_f)
+        current = at(xi, result_state(best))
+        if _q(current) > _q(best):
+            best = current
+        if current.branch == "rising":
+            x_r, s_r = xi, _slope(current)
+            if side == -1:
+                s_f *= 0.5
+            side = -1
+        else:
+            x_f, s_f = xi, _slope(current)
+            if side == 1:
+                s_r *= 0.5
+            side = 1
+    return best
+
+
+def peak_on_side(case: Case, sign: float, solve: Callable[..., Result], prepare: Callable) -> Result | None:
+    """The turning point of the creep-force curve of ``case`` (a slip-speed law) for creepages of
+    sign ``sign``: walk out from a quarter of Carter's full-slip creepage (mu_static) by factors
+    :data:`WALK` under creepage control, each solve from its neighbour,
+    (inwards if the first is already falling) to the first change of branch, then
+    :func:`turning_point`. None when the curve does not turn before |xi| = 1 (a law that does
+    not fall) or a walk solve fails. ``solve`` and ``prepare`` are the pipeline's (passed in)."""
+    from ..references import carter
+
+    auto = dataclasses.replace(case, solver=dataclasses.replace(case.solver, branch="auto"))
+    the_plan, system = prepare(auto)
+
+    def at(creep: float, start: State | None) -> Result:
+        return solve(with_overrides(auto, {"tangential.creep": creep}), start=start, system=system)
+
+    xi = math.copysign(0.25 * carter.full_slip_creepage(the_plan.half_width, the_plan.radius, case.friction.mu), sign)
+    previous, factor = None, WALK
+    try:
+        for _ in range(STEPS):
+            current = at(xi, None if previous is None else result_state(previous))
+            if previous is not None and current.branch != previous.branch:
+                return turning_point(previous, current, at)
+            if previous is None and current.branch == "falling":
+                factor = 1.0 / WALK  # already beyond the peak: walk back in
+            previous, xi = current, xi * factor
+            if abs(xi) > 1.0:
+                return None
+    except ConvergenceError:
+        return None
+    return None
+
+
+def beyond_the_peak(case: Case, solve: Callable[..., Result], prepare: Callable) -> None:
+    """After a force-controlled solve of ``case`` (a slip-speed law) failed: raise a ConvergenceError
+    saying so when the force lies beyond the creep-force curve's turning point on its side (no
+    steady rolling solution exists there: the bodies' slip would grow to gross sliding); return
+    when it does not (the failure is the solver's). Costs one :func:`peak_on_side` walk per side
+    tried (10-15 creepage-controlled solves)."""
+    kind, value = case.tangential.control()
+    if kind == "creep" or value == 0.0:
+        return
+    for sign in (-1.0, 1.0):
+        peak = peak_on_side(case, sign, solve, prepare)
+        if peak is None:
+            continue
+        q = float(recorded(peak.tangential_load, "tangential_load"))
+        if q * value <= 0.0:  # the other side of the curve carries forces of the other sign
+            continue
+        p = float(recorded(peak.normal_load, "normal_load"))
+        reached = {"q_over_mu_p": q / (case.friction.mu * p), "q_over_p": q / p, "load": q}[kind]
+        if abs(value) > abs(reached):
+            raise ConvergenceError(
+                f"no steady solution with tangential.{kind} = {value:g}: the creep-force curve turns at "
+                f"tangential.{kind} = {reached:.5g} (xi = {float(recorded(peak.creep, 'creep')):.5g}), friction "
+                "falling with the slip speed",
+                cause="a force beyond the curve's peak makes the bodies slide; lower it, or trace the curve under "
+                "creepage control (rollc sweep --curve creep)",
+            )
+        return

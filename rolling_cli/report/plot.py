@@ -175,8 +175,8 @@ def _draw_curve(ax, creep: np.ndarray, q: np.ndarray, slope: np.ndarray, colour,
             label, unstable_named = "unstable (dQ/dxi > 0)", True
         ax.plot(xs, qs, "o-" if stable else "o--", ms=3, color=colour, label=label)
     if turns:
-        xs, qs = zip(*turns, strict=True)
-        ax.plot(xs, qs, "D", ms=6, mfc="none", color=colour, label="turning point" if legend is None else None)
+        turn_x, turn_q = zip(*turns, strict=True)
+        ax.plot(turn_x, turn_q, "D", ms=6, mfc="none", color=colour, label="turning point" if legend is None else None)
 
 
 def branch_segments(creep, q, slope) -> tuple[list[tuple[np.ndarray, np.ndarray, bool]], list[tuple[float, float]]]:

@@ -191,10 +191,16 @@ def spec_from_table(table: dict, file: str | None) -> SweepSpec:
 
 
 def curve_spec(base: Case, kind: str, points: int) -> SweepSpec:
-    """The creep-force curve: Q/(mu P) from -0.99 to 0.99, or the creepage over +-1.5 times full slip."""
+    """The creep-force curve: Q/(mu P) from -0.99 to 0.99, or the creepage over +-1.5 times full slip.
+    With friction that falls with the slip speed the load curve runs through its turning points
+    (:func:`load_curve_through_peaks`)."""
     if base.friction.mu <= 0.0:
         raise CaseError(f"{base.source or 'case'}: friction.mu = 0: no creep-force curve without friction")
     if kind == "load":
+        if base.friction.law != "constant":
+            through = load_curve_through_peaks(base, points)
+            if through is not None:
+                return through
         return SweepSpec(("tangential.q_over_mu_p",), (Linspace(-0.99, 0.99, points),))
     from .. import pipeline
     from ..references import carter
@@ -202,6 +208,55 @@ def curve_spec(base: Case, kind: str, points: int) -> SweepSpec:
     the_plan = pipeline.measured_plan(base)
     full = carter.full_slip_creepage(the_plan.half_width, the_plan.radius, base.friction.mu)
     return SweepSpec(("tangential.creep",), (Linspace(-1.5 * full, 1.5 * full, points),))
+
+
+#: The load curve's targets stop this close to a turning point (its slope dQ/dxi -> 0 there, so a
+#: force-controlled Newton at the peak itself is singular); the plot finds the turn between them.
+PEAK_FRACTION = 0.995
+
+
+def load_curve_through_peaks(base: Case, points: int) -> SweepSpec | None:
+    """The force-controlled creep-force curve of a slip-speed law, in creepage order through both
+    turning points: the high-slip branch from the creepage curve's end (-1.5 times Carter's full
+    slip, mu_static) up to :data:`PEAK_FRACTION` of the peak, the low-slip branch across Q = 0 to
+    the other peak, the other high-slip branch down to +1.5 times full slip. The swept keys are
+    ``tangential.q_over_mu_p`` and ``solver.branch`` (zipped); each piece gets points in
+    proportion to its arc length in the plane (xi / (1.5 full slip), Q/(mu P)), at least
+    two (so at least six in all). The peaks and ends are found by
+    creepage-controlled solves before the sweep (:func:`~rolling_cli.pipeline.branches.peak_on_side`,
+    some 25 solves); None when the curve has no turning point (a law that does not fall),
+    and the plain load curve is swept."""
+    import numpy as np
+
+    from .. import pipeline
+    from ..pipeline import branches
+    from ..references import carter
+    from ..result import recorded
+
+    sides = []
+    the_plan, system = pipeline.prepare(base)
+    ends = 1.5 * carter.full_slip_creepage(the_plan.half_width, the_plan.radius, base.friction.mu)
+    for sign in (-1.0, 1.0):
+        peak = branches.peak_on_side(base, sign, pipeline.solve, pipeline.prepare)
+        if peak is None or abs(recorded(peak.creep, "creep")) >= ends:
+            return None
+        end = pipeline.solve(with_overrides(base, {"tangential.creep": sign * ends}), system=system)
+        q_peak, q_end = recorded(peak.q_over_mu_p, "q_over_mu_p"), recorded(end.q_over_mu_p, "q_over_mu_p")
+        sides.append((PEAK_FRACTION * q_peak, q_end, recorded(peak.creep, "creep")))
+    (peak_lo, end_lo, xi_lo), (peak_hi, end_hi, xi_hi) = sides
+    # arc lengths in the plane (xi / xi_end, Q/(mu P)): both are of order one along the curve
+    creep_spans = np.array([ends - abs(xi_lo), abs(xi_hi - xi_lo), ends - abs(xi_hi)]) / ends
+    spans = np.hypot(creep_spans, [peak_lo - end_lo, peak_hi - peak_lo, end_hi - peak_hi])
+    counts = np.maximum(2, np.round(spans / spans.sum() * points)).astype(int)
+    counts[1] = max(2, points - counts[0] - counts[2])
+    pieces = [
+        (np.linspace(end_lo, peak_lo, counts[0]), "high-slip"),
+        (np.linspace(peak_lo, peak_hi, counts[1]), "low-slip"),
+        (np.linspace(peak_hi, end_hi, counts[2]), "high-slip"),
+    ]
+    values = [float(f"{v:.12g}") for q, _ in pieces for v in q]
+    labels = [branch for q, branch in pieces for _ in q]
+    return SweepSpec(("tangential.q_over_mu_p", "solver.branch"), (tuple(values), tuple(labels)), zipped=True)
 
 
 def given(combo: dict) -> str:
