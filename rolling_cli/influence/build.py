@@ -8,7 +8,9 @@
   a half-space truncated at half-width ``block_width`` a and depth
   ``block_depth`` a (far-field displacement on the truncation, the approach
   measured from depth D) for an elastic body, the layer (thickness b, free
-  length ``layer_length`` b beyond the zone on each side) for a layered one;
+  length ``layer_length`` b beyond the zone on each side) for a layered one,
+  with the steady-rolling history terms of :mod:`.viscoelastic_layer` when the
+  layer is viscoelastic (built with E = E_g, then weighted by J);
   none for a rigid body; one for two identical bodies. The pair is formed by
   :func:`~rolling_cli.influence.combine`.
 
@@ -31,7 +33,7 @@ import numpy as np
 
 from ..model.grid import ContactGrid
 from ..model.viscoelastic import bodies as viscoelastic_bodies
-from ..model.viscoelastic import from_body
+from ..model.viscoelastic import from_body, viscoelastic_layer
 from . import Compliance, combine, halfplane
 
 if TYPE_CHECKING:  # the BEM package (and scipy.linalg) is imported only when a BEM body is built
@@ -64,6 +66,10 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
         else:
             inputs = bem_inputs(case, the_plan, body)
             bodies[label], origin[label] = _bem_body(inputs, use_cache)
+            if viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
+                bodies[label] = _viscoelastic_layer(
+                    bodies[label], the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
+                )
     if a.finite or b.finite:  # exact geometry and hoop strain of finite cylinders
         from . import finite as _finite
 
@@ -223,6 +229,16 @@ def _body_key(body) -> tuple | None:
     if body.rigid:
         return None
     return (from_body(body), body.modulus, body.ratio)
+
+
+def _viscoelastic_layer(elastic: Compliance, grid: ContactGrid, body, speed: float, direction: int) -> Compliance:
+    """A viscoelastic layer's compliance from its elastic BEM layer (built with E = E_g)."""
+    from . import viscoelastic_layer as layer
+
+    model = from_body(body)
+    if model is None:
+        raise ValueError("not a viscoelastic body")
+    return layer.body_compliance(elastic, grid, model, float(body.layer_thickness), speed, direction)
 
 
 @functools.lru_cache(maxsize=8)

@@ -1,0 +1,114 @@
+"""Steady-rolling compliance of a viscoelastic layer bonded to a rigid core (the rubber cover).
+
+A layer of thickness b, constant nu and creep compliance
+J(t) = J_g + sum_i c_i (1 - exp(-t/lambda_i)) (:mod:`rolling_cli.model.viscoelastic`)
+rolls at speed |V|. As for the half-plane (:mod:`.viscoelastic`), its surface
+displacement is the unit-modulus elastic response K weighted by J over the
+load history met upstream,
+
+    u = J_g K[p] + sum_i c_i C_i[K[p]],   C_i[f](x) = int_0^inf exp(-s) f(x + b_i s) ds,
+
+b_i = -sgn(V) |V| lambda_i. Written as
+
+    u = J_r K[p] + sum_i c_i (C_i[K] - K)[p],   J_r = J_g + sum_i c_i = 1/E_r,
+
+the first term is today's BEM layer (:mod:`.bem`, built with E = E_g and scaled
+by E_g / E_r), so an elastic layer (no terms) is the tyre model to round-off and
+slow rolling (b_i -> 0, C_i -> identity) is the relaxed BEM layer exactly. The
+history term splits with the half-plane kernel K_hp (the layer's own nu) as
+
+    C_i[K] - K = (C_i[K_hp] - K_hp) + F^-1[ R~(q) (i q b_i / (1 - i q b_i)) ],
+
+R~ = K~ - K_hp~ the remainder of :func:`rolling_cli.references.layer_fourier.remainder`
+(C_b multiplies a Fourier transform by 1/(1 - i q b)). The first bracket is the
+closed form of :func:`.viscoelastic.quadratic_offsets` (the log constant
+cancels); the second is bounded at q -> 0 (R~ ~ -K_hp~ ~ 1/|q| there times
+q b) and decays like exp(-2 |q| b), so it is integrated on the element shape
+functions in Fourier space, by Gauss-Legendre panels
+(:func:`~rolling_cli.references.layer_fourier.wavenumbers`). On a uniform grid
+both are block-Toeplitz: only the 2 N_e - 1 element offsets are integrated.
+
+Fast rolling (|b_i| -> inf) tends to J_g K_BEM + sum c_i (K_BEM - K_F), K_F the
+infinite layer of the Fourier transfer matrix: the glassy layer up to the BEM's
+own discretisation and truncation error (measured in
+tests/test_viscoelastic_layer.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..model.grid import ContactGrid
+from ..model.viscoelastic import Viscoelastic
+from ..references import layer_fourier
+from . import Compliance
+from .halfplane import _length_scale, _toeplitz_gather, log_offsets, sign_offsets
+from .viscoelastic import history_lengths, quadratic_offsets
+
+def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, b: float) -> np.ndarray:
+    """F^-1[R~ (i q b / (1 - i q b)) N~_k](y_oa) per element offset, shape (3 blocks nn, tt, nt,
+    2 N_e - 1, 3, 3) [length^2, at unit modulus]: (1/pi) Re int_0^inf ... exp(i q y) dq, y the
+    target node's offset from the source element's centre (R_nt = -i g_R).
+
+    The offsets are the multiples y = j h/3 (h the element length, j = 3 o + a - 1), so the
+    phases are the powers z^j of z = exp(i q h/3) (a running product, round-off ~ j eps), and
+    -j takes the conjugates: two real matrix products for all rows."""
+    half = 0.5 * grid.element_length
+    step = grid.element_length / 3.0
+    top = 3 * grid.elements - 2  # the largest |j|
+    q, w = layer_fourier.wavenumbers((top + 3) * step, thickness, (b,))
+    r_nn, r_tt, g_r = layer_fourier.remainder(q, thickness, poisson)
+    history = 1j * q * b / (1.0 - 1j * q * b)
+    shapes = layer_fourier.quadratic_spectra(q, half)  # (q, 3)
+    columns = np.concatenate([((w * history * r)[:, None] * shapes) for r in (r_nn, r_tt, -1j * g_r)], axis=1)
+    powers = np.empty((top + 1, q.size), dtype=complex)
+    powers[0] = 1.0
+    powers[1:] = np.exp(1j * q * step)[None, :]
+    np.cumprod(powers, axis=0, out=powers)
+    even = (powers.real @ columns.real) / math.pi  # Re(z^j G) = even -+ odd for +-j
+    odd = (powers.imag @ columns.imag) / math.pi
+    ne = grid.elements
+    j = 3 * np.arange(-(ne - 1), ne)[:, None] + np.arange(-1, 2)[None, :]  # (o, a)
+    out = even[np.abs(j)] - np.sign(j)[..., None] * odd[np.abs(j)]  # (o, a, 9)
+    return out.reshape(2 * ne - 1, 3, 3, 3).transpose(2, 0, 1, 3)  # (block, o, a, k)
+
+
+def history_offsets(grid: ContactGrid, thickness: float, poisson: float, b: float) -> np.ndarray:
+    """(C_b[K] - K) of the unit-modulus layer per element offset, shape (3 blocks nn, tt, nt,
+    2 N_e - 1, 3, 3) [length^2]: the half-plane's closed form plus the remainder's Fourier part."""
+    if grid.order != 2 or not grid.uniform:
+        raise ValueError("the viscoelastic layer needs a uniform grid of quadratic elements")
+    scale = _length_scale(grid)
+    log_b, sign_b = quadratic_offsets(grid, b, scale)
+    direct = 2.0 * (1.0 - poisson**2) / math.pi * (log_b - log_offsets(grid, scale))
+    cross = 0.5 * (1.0 - 2.0 * poisson) * (1.0 + poisson) * (sign_b - sign_offsets(grid))
+    return np.stack([direct, -direct, cross]) + fourier_offsets(grid, thickness, poisson, b)
+
+
+def body_compliance(
+    elastic: Compliance,
+    grid: ContactGrid,
+    model: Viscoelastic,
+    thickness: float,
+    speed: float,
+    direction: int,
+) -> Compliance:
+    """The viscoelastic layer's compliance [length/stress] on ``grid`` from its elastic BEM layer
+    ``elastic`` (built with E = E_g, the body's ``young``): J_r K_BEM + sum_i c_i (C_i[K] - K).
+    ``thickness`` b [length], ``speed`` |V| [length/time], ``direction`` sgn(V)."""
+    if elastic.S_nt is None or elastic.S_tn is None:
+        raise ValueError("the BEM layer carries its coupling blocks")
+    factor = model.relaxed / model.glassy  # J_r E_g
+    nn, tt = factor * elastic.S_nn, factor * elastic.S_tt
+    nt, tn = factor * elastic.S_nt, factor * elastic.S_tn
+    for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True):
+        if c == 0.0 or b == 0.0:  # no history (E_r = E_g, or at rest)
+            continue
+        d_nn, d_tt, d_nt = history_offsets(grid, thickness, model.poisson, b)
+        nn = nn + c * _toeplitz_gather(grid, d_nn)
+        tt = tt + c * _toeplitz_gather(grid, d_tt)
+        cross = c * _toeplitz_gather(grid, d_nt)
+        nt, tn = nt + cross, tn + cross
+    return Compliance(x=elastic.x, weights=elastic.weights, S_nn=nn, S_tt=tt, S_nt=nt, S_tn=tn, definite_normal=True)
