@@ -87,6 +87,27 @@ def history_offsets(grid: ContactGrid, thickness: float, poisson: float, b: floa
     return np.stack([direct, -direct, cross]) + fourier_offsets(grid, thickness, poisson, b)
 
 
+#: |b| / (zone width) of the history length that stands for b -> inf: C_b[K_F] ~ K~(0) / |b| is then
+#: below 1e-12 of K, and the log constants (ln |b| ~ 28) cancel to ~1e-14.
+FAST = 1e12
+
+
+def upstream_filter(x: np.ndarray, b: float) -> np.ndarray:
+    """F[i, m] [-]: the weight of node m's cell in C_b at node i, int over the cell of the upstream
+    density exp(-(s - x_i)/b) / |b| (s on the side of x_i that b points to), for node positions x
+    [length] (cells of :func:`~rolling_cli.model.grid.node_cell_edges`): C_b of a function known
+    only at the nodes, taken piecewise constant on the cells, and zero beyond the zone."""
+    from ..model.grid import node_cell_edges
+
+    edges = node_cell_edges(x)
+    lo, hi = edges[:-1][None, :] - x[:, None], edges[1:][None, :] - x[:, None]  # (i, m) relative
+    if b > 0.0:
+        lo, hi = np.maximum(lo, 0.0), np.maximum(hi, 0.0)
+    else:
+        lo, hi = np.minimum(lo, 0.0), np.minimum(hi, 0.0)
+    return np.abs(np.expm1(-hi / b) - np.expm1(-lo / b))
+
+
 def body_compliance(
     elastic: Compliance,
     grid: ContactGrid,
@@ -96,19 +117,34 @@ def body_compliance(
     direction: int,
 ) -> Compliance:
     """The viscoelastic layer's compliance [length/stress] on ``grid`` from its elastic BEM layer
-    ``elastic`` (built with E = E_g, the body's ``young``): J_r K_BEM + sum_i c_i (C_i[K] - K).
-    ``thickness`` b [length], ``speed`` |V| [length/time], ``direction`` sgn(V)."""
+    ``elastic`` (built with E = E_g, the body's ``young``) [length/stress]: ``thickness`` b [length],
+    ``speed`` |V| [length/time], ``direction`` sgn(V).
+
+    J_r K_BEM + sum_i c_i (C_i[K] - K) with C_i[K] - K = (C_i[K_F] - K_F) + (C_i[E] - E): the
+    first from :func:`history_offsets`, the second the BEM's own departure E = K_BEM - K_F from
+    the Fourier layer K_F (its element-level discretisation, the truncated layer) convolved on
+    the nodes by :func:`upstream_filter`. K_F is :func:`history_offsets` at |b| = :data:`FAST`
+    (C_b[K_F] -> 0), so both limits are exact: b_i -> 0 the relaxed BEM layer, |b_i| -> inf
+    J_g K_BEM. The filter is the only approximation in between (E is known at the nodes only)."""
     if elastic.S_nt is None or elastic.S_tn is None:
         raise ValueError("the BEM layer carries its coupling blocks")
     factor = model.relaxed / model.glassy  # J_r E_g
-    nn, tt = factor * elastic.S_nn, factor * elastic.S_tt
-    nt, tn = factor * elastic.S_nt, factor * elastic.S_tn
-    for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True):
-        if c == 0.0 or b == 0.0:  # no history (E_r = E_g, or at rest)
-            continue
-        d_nn, d_tt, d_nt = history_offsets(grid, thickness, model.poisson, b)
-        nn = nn + c * _toeplitz_gather(grid, d_nn)
-        tt = tt + c * _toeplitz_gather(grid, d_tt)
-        cross = c * _toeplitz_gather(grid, d_nt)
-        nt, tn = nt + cross, tn + cross
-    return Compliance(x=elastic.x, weights=elastic.weights, S_nn=nn, S_tt=tt, S_nt=nt, S_tn=tn, definite_normal=True)
+    blocks = [elastic.S_nn, elastic.S_tt, elastic.S_nt, elastic.S_tn]
+    out = [factor * block for block in blocks]
+    terms = [
+        (c, b)
+        for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True)
+        if c != 0.0 and b != 0.0  # no history: E_r = E_g, or at rest
+    ]
+    if not terms:
+        return Compliance(elastic.x, elastic.weights, *out, definite_normal=True)
+    span = 2.0 * grid.half_width
+    fast = history_offsets(grid, thickness, model.poisson, math.copysign(FAST * span, terms[0][1]))
+    layer_f = [-_toeplitz_gather(grid, fast[k]) for k in (0, 1, 2, 2)]  # K_F, unit modulus
+    departure = [model.glassy_young * block - f for block, f in zip(blocks, layer_f, strict=True)]
+    for c, b in terms:
+        offsets = history_offsets(grid, thickness, model.poisson, b)
+        weights = upstream_filter(np.asarray(elastic.x, dtype=float), b)
+        for k, block in enumerate((0, 1, 2, 2)):
+            out[k] = out[k] + c * (_toeplitz_gather(grid, offsets[block]) + weights @ departure[k] - departure[k])
+    return Compliance(elastic.x, elastic.weights, *out, definite_normal=True)
