@@ -86,7 +86,8 @@ def test_transfer_matrix_is_the_layer_boundary_system_and_has_its_limits(nu):
     assert nn[0] == pytest.approx(-b * (1 + nu) * (1 - 2 * nu) / (1 - nu), abs=2e-4 * b)
     assert tt[0] == pytest.approx(2.0 * (1 + nu) * b, rel=2e-4)
     k = 20.0 / b
-    for got, half in zip(layer_fourier.transfer(np.array([k]), b, nu), layer_fourier.halfplane(np.array([k]), nu)):
+    pairs = zip(layer_fourier.transfer(np.array([k]), b, nu), layer_fourier.halfplane(np.array([k]), nu), strict=True)
+    for got, half in pairs:
         assert got[0] == pytest.approx(half[0], rel=1e-11)
 
 

@@ -47,6 +47,7 @@ from . import Compliance
 from .halfplane import _length_scale, _toeplitz_gather, log_offsets, sign_offsets
 from .viscoelastic import history_lengths, quadratic_offsets
 
+
 def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, b: float) -> np.ndarray:
     """F^-1[R~ (i q b / (1 - i q b)) N~_k](y_oa) per element offset, shape (3 blocks nn, tt, nt,
     2 N_e - 1, 3, 3) [length^2, at unit modulus]: (1/pi) Re int_0^inf ... exp(i q y) dq, y the
