@@ -104,7 +104,7 @@ def test_fourier_layer_kernels_match_the_bem_layer(nu, band_tolerance):
     thickness = 1.0
     mesh = bem.body_mesh(grid, grid.half_width + 10.0 * thickness, thickness, largest=thickness, far_field=False)
     elastic = bem.condensed(mesh, grid, 1.0, nu)
-    fast = layer.history_offsets(grid, thickness, nu, layer.FAST * 3.0)
+    fast = layer.history_offsets(grid, thickness, nu, (layer.FAST * 3.0,))[0]
     index = np.arange(grid.size) // 3
     band = np.abs(index[:, None] - index[None, :]) <= 1
     direct_tol, cross_tol = (1e-3, 3e-3) if nu == 0.5 else band_tolerance
