@@ -95,15 +95,32 @@ def history_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     elastic_log, elastic_sign = log_offsets(grid, scale), sign_offsets(grid)
     out = fourier_offsets(grid, thickness, poisson, lengths)
     for n, b in enumerate(lengths):
-        log_b, sign_b = quadratic_offsets(grid, float(b), scale)
+        log_b, sign_b = _halfplane_history(grid, float(b), scale)
         direct = 2.0 * (1.0 - poisson**2) / math.pi * (log_b - elastic_log)
         out[n] += np.stack([direct, -direct, 0.5 * (1.0 - 2.0 * poisson) * (1.0 + poisson) * (sign_b - elastic_sign)])
     return out
 
 
 #: |b| / (zone width) of the history length that stands for b -> inf: C_b[K_F] ~ K~(0) / |b| is then
-#: ~1e-9 of K, and the log constants (ln |b| ~ 21) cancel to ~1e-14.
-FAST = 1e9
+#: ~1e-12 of K, and the log constants (ln |b| ~ 28) cancel to ~1e-14.
+FAST = 1e12
+#: |b| / (zone width) beyond which the half-plane's history kernels take their limit form.
+HUGE = 1e10
+
+
+def _halfplane_history(grid: ContactGrid, b: float, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """(C_b[log], C_b[sign]) element offsets of :func:`.viscoelastic.quadratic_offsets` [length]; for
+    |b| > HUGE zone widths their limits: C_b[ln(|u|/L)] -> ln|b| - gamma - ln L and C_b[sgn u] ->
+    sgn(b), times the shape integrals (the omitted Phi(u/b) ~ |u/b| ln|b/u| < 3e-9 of them)."""
+    if abs(b) <= HUGE * 2.0 * grid.half_width:
+        return quadratic_offsets(grid, b, scale)
+    from ..model.grid import shape_integrals
+    from .viscoelastic import EULER_GAMMA
+
+    half = 0.5 * grid.element_length
+    integrals = np.broadcast_to(half * shape_integrals(2), (2 * grid.elements - 1, 3, 3))
+    constant = math.log(abs(b)) - EULER_GAMMA - math.log(scale)
+    return constant * integrals, math.copysign(1.0, b) * integrals
 
 
 def upstream_filter(x: np.ndarray, b: float) -> np.ndarray:

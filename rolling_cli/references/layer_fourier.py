@@ -115,29 +115,48 @@ def wavenumbers(span: float, thickness: float, scales=()) -> tuple[np.ndarray, n
     return np.concatenate(nodes), np.concatenate(weights)
 
 
+def _spherical_bessel(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """j0, j1, j2 at theta >= 0: the closed forms, their Taylor series below 0.2 (where the closed
+    forms cancel; the series' first omitted terms are < 3e-15 of the leading ones there)."""
+    t = np.maximum(theta, 0.2)
+    sin, cos = np.sin(t), np.cos(t)
+    j0, j1 = sin / t, sin / t**2 - cos / t
+    j2 = (3.0 / t**2 - 1.0) * sin / t - 3.0 * cos / t**2
+    small = theta < 0.2
+    if small.any():
+        u = theta[small]
+        v = u * u
+        j0[small] = 1.0 - v / 6.0 * (1.0 - v / 20.0 * (1.0 - v / 42.0 * (1.0 - v / 72.0)))
+        j1[small] = u / 3.0 * (1.0 - v / 10.0 * (1.0 - v / 28.0 * (1.0 - v / 54.0 * (1.0 - v / 88.0))))
+        j2[small] = v / 15.0 * (1.0 - v / 14.0 * (1.0 - v / 36.0 * (1.0 - v / 66.0 * (1.0 - v / 104.0))))
+    return j0, j1, j2
+
+
 def quadratic_spectra(q: np.ndarray, half: float) -> np.ndarray:
     """N~_k(q) = int N_k(s) exp(-i q s) ds over one quadratic element of half-length ``half``
     [length] centred at 0 (nodes at -2/3, 0, 2/3), shape (q, 3) [length]: with
     I_m = int_{-1}^{1} xi^m exp(-i theta xi) d xi, theta = q half: I_0 = 2 j0, I_1 = -2i j1,
     I_2 = (2/3)(j0 - 2 j2) (spherical Bessel functions, no cancellation at small theta)."""
-    from scipy.special import spherical_jn
-
     # the shape coefficients of rolling_cli.model.grid (Lagrange through -2/3, 0, 2/3), here to
     # keep the references below the model layer: N = (9/8 xi^2 - 3/4 xi, 1 - 9/4 xi^2, 9/8 xi^2 + 3/4 xi)
     coeff = np.array([[0.0, -0.75, 1.125], [1.0, 0.0, -2.25], [0.0, 0.75, 1.125]])
-    theta = np.asarray(q, dtype=float) * half
-    j0, j1, j2 = (spherical_jn(n, theta) for n in range(3))
-    moments = np.stack([2.0 * j0 + 0j, -2j * j1, (2.0 / 3.0) * (j0 - 2.0 * j2) + 0j], axis=-1)
+    j0, j1, j2 = _spherical_bessel(np.abs(np.asarray(q, dtype=float)) * half)
+    moments = np.stack([2.0 * j0 + 0j, -2j * np.sign(q) * j1, (2.0 / 3.0) * (j0 - 2.0 * j2) + 0j], axis=-1)
     return half * moments @ coeff.T
 
 
 def element_spectrum(q: np.ndarray, centres: np.ndarray, half: float, nodal: np.ndarray) -> np.ndarray:
     """f~(q) [stress length] of the piecewise-quadratic traction with ``nodal`` values (3 per element,
-    elements centred at ``centres`` [length], half-length ``half``), at the wavenumbers q."""
+    elements centred at the equally spaced ``centres`` [length], half-length ``half``), at the
+    wavenumbers q: the phases exp(-i q c_e) as a running product over the elements."""
     shapes = quadratic_spectra(q, half)  # (q, 3)
     values = np.asarray(nodal, dtype=float).reshape(-1, 3)  # (e, 3)
-    phases = np.exp(-1j * np.outer(q, centres))  # (q, e)
-    return np.einsum("qe,ek,qk->q", phases, values, shapes)
+    phases = np.empty((centres.size, q.size), dtype=complex)
+    phases[0] = np.exp(-1j * q * centres[0])
+    if centres.size > 1:
+        phases[1:] = np.exp(-1j * q * (centres[1] - centres[0]))[None, :]
+        np.cumprod(phases, axis=0, out=phases)
+    return np.sum((phases.T @ values) * shapes, axis=1)
 
 
 def remainder_power(
