@@ -65,11 +65,12 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
             bodies[label], origin[label] = bodies["A"], "reused"
         else:
             inputs = bem_inputs(case, the_plan, body)
-            bodies[label], origin[label] = _bem_body(inputs, use_cache)
+            found, origin[label] = _bem_body(inputs, use_cache)
             if viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
-                bodies[label] = _viscoelastic_layer(
-                    bodies[label], the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
+                found = _viscoelastic_layer(
+                    found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
                 )
+            bodies[label] = found
     if a.finite or b.finite:  # exact geometry and hoop strain of finite cylinders
         from . import finite as _finite
 

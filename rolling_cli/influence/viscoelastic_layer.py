@@ -168,7 +168,7 @@ def body_compliance(
         if c != 0.0 and b != 0.0  # no history: E_r = E_g, or at rest
     ]
     if not terms:
-        return Compliance(elastic.x, elastic.weights, *out, definite_normal=True)
+        return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
     fast = math.copysign(FAST * 2.0 * grid.half_width, terms[0][1])
     offsets_all = history_offsets(grid, thickness, model.poisson, (fast, *(b for _, b in terms)))
     layer_f = [-_toeplitz_gather(grid, offsets_all[0, k]) for k in (0, 1, 2, 2)]  # K_F, unit modulus
@@ -177,4 +177,4 @@ def body_compliance(
         weights = upstream_filter(np.asarray(elastic.x, dtype=float), b)
         for k, block in enumerate((0, 1, 2, 2)):
             out[k] = out[k] + c * (_toeplitz_gather(grid, offsets[block]) + weights @ departure[k] - departure[k])
-    return Compliance(elastic.x, elastic.weights, *out, definite_normal=True)
+    return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
