@@ -283,3 +283,20 @@ def test_bad_input_is_one_line_exit_2(tmp_path, dotted, expected):
     lines = result.output.strip().splitlines()
     assert len(lines) == 1 and expected in lines[0], result.output
     assert "Traceback" not in result.output
+
+
+@pytest.mark.parametrize("prony", [None, [[12.0, 0.0003], [8.0, 0.003]]])
+def test_shipped_cover_and_a_prony_cover_balance_their_energy(prony):
+    """cases/rubber_cover.toml (driven, Q/(mu P) = 0.3) and the same cover with a two-term Prony series
+    (two history terms): the shafts' power equals hysteresis + friction + xi Q within 0.5 % (measured
+    1e-4 and 1.3e-4), with a positive rolling resistance; the effects line names the model."""
+    with open(CASES / "rubber_cover.toml", "rb") as handle:
+        data = tomllib.load(handle)
+    if prony is not None:
+        data = case_dict(data, **{"bodies.B.relaxed_young": None, "bodies.B.creep_time": None, "bodies.B.prony": prony})
+    r = solve(load_case(data))
+    shafts = r.rolling_resistance_moment / 25.0
+    losses = r.hysteresis_power + r.frictional_power_total + r.creep * r.tangential_load
+    assert r.rolling_resistance_coefficient > 0.0
+    assert losses == pytest.approx(shafts, rel=0.005)
+    assert ("Prony (2 terms)" if prony else "B: SLS, V tau_c / a = 0.813") in r.effects_line
