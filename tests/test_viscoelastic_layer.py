@@ -300,3 +300,13 @@ def test_shipped_cover_and_a_prony_cover_balance_their_energy(prony):
     assert r.rolling_resistance_coefficient > 0.0
     assert losses == pytest.approx(shafts, rel=0.005)
     assert ("Prony (2 terms)" if prony else "B: SLS, V tau_c / a = 0.813") in r.effects_line
+
+
+def test_fourier_offsets_do_not_depend_on_the_phase_blocks(monkeypatch):
+    """The phases in blocks of wavenumbers (bounded memory) sum to the one-block result (round-off,
+    1e-13 of the largest entry)."""
+    grid = ContactGrid(1.5, 20, 2)
+    whole = layer.fourier_offsets(grid, 0.1, 0.4, (0.5, -3.0))
+    monkeypatch.setattr(layer, "_PHASES", 1000)
+    blocks = layer.fourier_offsets(grid, 0.1, 0.4, (0.5, -3.0))
+    assert np.max(np.abs(whole - blocks)) < 1e-13 * np.max(np.abs(whole))

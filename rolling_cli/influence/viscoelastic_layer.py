@@ -47,6 +47,9 @@ from . import Compliance
 from .halfplane import _length_scale, _toeplitz_gather, log_offsets, sign_offsets
 from .viscoelastic import history_lengths, quadratic_offsets
 
+#: Complex phases formed at once by :func:`fourier_offsets` (bounds a temporary to 32 MB).
+_PHASES = 1 << 21
+
 
 def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths) -> np.ndarray:
     """F^-1[R~ (i q b / (1 - i q b)) N~_k](y_oa) per element offset for each history length b in
@@ -73,12 +76,19 @@ def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
         ],
         axis=1,
     )
-    powers = np.empty((top + 1, q.size), dtype=complex)
-    powers[0] = 1.0
-    powers[1:] = np.exp(1j * q * step)[None, :]
-    np.cumprod(powers, axis=0, out=powers)
-    even = (powers.real @ columns.real) / math.pi  # Re(z^j G) = even -+ odd for +-j
-    odd = (powers.imag @ columns.imag) / math.pi
+    even = np.zeros((top + 1, columns.shape[1]))  # Re(z^j G) = even -+ odd for +-j
+    odd = np.zeros_like(even)
+    chunk = max(1, _PHASES // (top + 1))  # wavenumbers per block of phases (bounds the temporary)
+    for lo in range(0, q.size, chunk):
+        part = slice(lo, lo + chunk)
+        powers = np.empty((top + 1, q[part].size), dtype=complex)
+        powers[0] = 1.0
+        powers[1:] = np.exp(1j * q[part] * step)[None, :]
+        np.cumprod(powers, axis=0, out=powers)
+        even += powers.real @ columns[part].real
+        odd += powers.imag @ columns[part].imag
+    even /= math.pi
+    odd /= math.pi
     ne = grid.elements
     j = 3 * np.arange(-(ne - 1), ne)[:, None] + np.arange(-1, 2)[None, :]  # (o, a)
     out = even[np.abs(j)] - np.sign(j)[..., None] * odd[np.abs(j)]  # (o, a, b 3 3)
