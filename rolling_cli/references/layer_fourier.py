@@ -90,14 +90,15 @@ def wavenumbers(span: float, thickness: float, scales=()) -> tuple[np.ndarray, n
     remainder (scale 1/b, exponential decay), phases exp(i q y) with |y| <= ``span`` [length], and
     Lorentzians of the ``scales`` [length] (e.g. 1/(1 - i q b_i)).
 
-    Uniform panels of width min(2 pi / span, 1 / b) (at most one turn of the phase, and the
-    remainder's complex poles, ~1/b off the axis, stay outside the panel's Bernstein ellipse);
+    Uniform panels of width min(4 pi / span, 1 / b) (at most two turns of the phase: 12-point
+    Gauss-Legendre integrates exp(i pi t) on [-1, 1] to ~pi^24 / 24! ~ 1e-12; the remainder's
+    complex poles, ~1/b off the axis, stay outside the panel's Bernstein ellipse);
     below the first panel, panels halving towards 1e-10 / L, L = max(span, b, scales), whose
     neglected rest is ~1e-10 of the integral (the integrands are bounded at q -> 0). Panels below
     0.1 / L, where the integrand is analytic in a disc ten times the panel's size, take
     :data:`LOW_POINTS` points (error ~ 20^-12)."""
     largest = max(span, thickness, *(abs(s) for s in scales))
-    width = min(2.0 * math.pi / span, 1.0 / thickness)
+    width = min(4.0 * math.pi / span, 1.0 / thickness)
     top = T_MAX / thickness
     panels = max(1, int(math.ceil(top / width)))
     width = top / panels
