@@ -4,9 +4,10 @@ Hunter's roller (a rigid cylinder, R = 50, P = 1, frictionless) on a standard li
 (E_g = 2 E_r = 20, nu = 0.5, tau_c = 0.01) that is a half-plane or a cover of thickness
 b = 0.1 a_r and 1 a_r bonded to a rigid core (a_r the relaxed Hertz half-width of the half-plane):
 the rolling-resistance coefficient M / (P R) against V tau_c / a_r, the solver's points (60
-quadratic elements) over the Fourier-space complex-modulus reference of the half-plane
-(:mod:`rolling_cli.references.hunter`). A thin cover is stiffer (a narrower contact) and loses
-less, with its peak at a smaller V tau_c / a_r.
+quadratic elements) over the Fourier-space complex-modulus references
+(:mod:`rolling_cli.references.hunter`, with the layer's normal compliance for the covers).
+A thin cover is stiffer (a narrower contact) and loses less, with its peak at a smaller
+V tau_c / a_r.
 
     python benchmarks/fig_viscoelastic_layer.py     # writes benchmarks/results/viscoelastic_layer.png
 """
@@ -52,17 +53,28 @@ def curve(thickness: float | None, ratios: np.ndarray) -> np.ndarray:
     return np.array([float(solve(load_case(case(r, thickness))).rolling_resistance_coefficient) for r in ratios])
 
 
+def reference(thickness: float | None, ratios: np.ndarray) -> list[float]:
+    """The Fourier complex-modulus reference (references.hunter, with the layer's normal compliance
+    for a cover; 40 cells per a_r, 120 for the thin cover)."""
+    cells = 120 if thickness is not None and thickness < 0.5 else 40
+    layer = None if thickness is None else thickness * A_R
+    return [
+        hunter.rolling_resistance(1.0, 50.0, 20.0, 10.0, 0.01, 0.5, r * A_R / 0.01, -1, cells, thickness=layer)
+        for r in ratios
+    ]
+
+
 def main() -> None:
     ratios = np.logspace(-2, 2, 13)
-    fine = np.logspace(-2, 2, 61)
-    reference = [hunter.rolling_resistance(1.0, 50.0, 20.0, 10.0, 0.01, 0.5, r * A_R / 0.01, -1, 40) for r in fine]
+    fine = np.logspace(-2, 2, 33)
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    ax.semilogx(fine, reference, "-", color="0.5", label="half-plane: Fourier complex-modulus reference")
-    for thickness, marker in ((None, "o"), (1.0, "s"), (0.1, "^")):
+    for (thickness, marker), colour in zip(((None, "o"), (1.0, "s"), (0.1, "^")), ("C0", "C1", "C2"), strict=True):
         values = curve(thickness, ratios)
         label = "half-plane" if thickness is None else f"cover b = {thickness:g} a_r"
-        ax.semilogx(ratios, values, marker, label=f"rollc, {label}")
+        ax.semilogx(fine, reference(thickness, fine), "-", color=colour, alpha=0.5, lw=1.5)
+        ax.semilogx(ratios, values, marker, color=colour, label=f"rollc, {label}")
         print(label, " ".join(f"{v:.4g}" for v in values))
+    ax.plot([], [], "-", color="0.5", label="Fourier complex-modulus references")
     ax.set_xlabel("V tau_c / a_r")
     ax.set_ylabel("M / (P R)")
     ax.set_title("Rigid roller on an SLS cover on a rigid core (E_g = 2 E_r, nu = 0.5)")
