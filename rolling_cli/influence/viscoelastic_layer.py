@@ -183,8 +183,11 @@ def body_compliance(
     offsets_all = history_offsets(grid, thickness, model.poisson, (fast, *(b for _, b in terms)))
     layer_f = [-_toeplitz_gather(grid, offsets_all[0, k]) for k in (0, 1, 2, 2)]  # K_F, unit modulus
     departure = [model.glassy_young * block - f for block, f in zip(blocks, layer_f, strict=True)]
+    n = grid.size
+    stacked = np.concatenate(departure, axis=1)  # (n, 4n): one product per term
     for (c, b), offsets in zip(terms, offsets_all[1:], strict=True):
-        weights = upstream_filter(np.asarray(elastic.x, dtype=float), b)
+        filtered = upstream_filter(np.asarray(elastic.x, dtype=float), b) @ stacked - stacked
+        history = [_toeplitz_gather(grid, offsets[block]) for block in (0, 1, 2)]
         for k, block in enumerate((0, 1, 2, 2)):
-            out[k] = out[k] + c * (_toeplitz_gather(grid, offsets[block]) + weights @ departure[k] - departure[k])
+            out[k] = out[k] + c * (history[block] + filtered[:, k * n : (k + 1) * n])
     return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)

@@ -41,8 +41,8 @@ import math
 
 import numpy as np
 
-#: Largest t = k b kept: the remainder is ~ t^2 exp(-2t) < 2e-15 of the half-plane's beyond.
-T_MAX = 20.0
+#: Largest t = k b kept: the remainder is ~ 4 t^2 exp(-2t) / kappa < 2e-11 of the half-plane's beyond.
+T_MAX = 16.0
 #: Gauss-Legendre points per wavenumber panel, and per panel far below every feature's scale.
 PANEL_POINTS = 12
 LOW_POINTS = 6
