@@ -7,7 +7,8 @@ the rolling-resistance coefficient M / (P R) against V tau_c / a_r, the solver's
 quadratic elements) over the Fourier-space complex-modulus references
 (:mod:`rolling_cli.references.hunter`, with the layer's normal compliance for the covers).
 A thin cover is stiffer (a narrower contact) and loses less, with its peak at a smaller
-V tau_c / a_r.
+V tau_c / a_r. Right: the shipped driven rubber cover (``cases/rubber_cover.toml``): its
+rolling-resistance coefficient and its overfeed (creepage at the given Q) against the speed.
 
     python benchmarks/fig_viscoelastic_layer.py     # writes benchmarks/results/viscoelastic_layer.png
 """
@@ -64,10 +65,25 @@ def reference(thickness: float | None, ratios: np.ndarray) -> list[float]:
     ]
 
 
+def cover_speed_curve() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(speeds, M / (P R*), creepage) of the shipped driven rubber cover (``cases/rubber_cover.toml``,
+    Q/(mu P) = 0.3) against the rolling speed."""
+    from rolling_cli.case.io import with_overrides
+
+    base = load_case(ROOT / "cases" / "rubber_cover.toml")
+    speeds = np.logspace(2, 5, 16)
+    coefficient, creep = [], []
+    for speed in speeds:
+        r = solve(with_overrides(base, {"rolling.speed": float(speed)}))
+        coefficient.append(float(r.rolling_resistance_coefficient))
+        creep.append(float(r.creep))
+    return speeds, np.array(coefficient), np.array(creep)
+
+
 def main() -> None:
     ratios = np.logspace(-2, 2, 13)
     fine = np.logspace(-2, 2, 33)
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    fig, (ax, right) = plt.subplots(1, 2, figsize=(12.0, 4.4))
     for (thickness, marker), colour in zip(((None, "o"), (1.0, "s"), (0.1, "^")), ("C0", "C1", "C2"), strict=True):
         values = curve(thickness, ratios)
         label = "half-plane" if thickness is None else f"cover b = {thickness:g} a_r"
@@ -77,8 +93,19 @@ def main() -> None:
     ax.plot([], [], "-", color="0.5", label="Fourier complex-modulus references")
     ax.set_xlabel("V tau_c / a_r")
     ax.set_ylabel("M / (P R)")
-    ax.set_title("Rigid roller on an SLS cover on a rigid core (E_g = 2 E_r, nu = 0.5)")
+    ax.set_title("Rigid roller on SLS covers (E_g = 2 E_r, nu = 0.5)")
     ax.legend(fontsize=8, loc="upper right")
+    speeds, coefficient, creep = cover_speed_curve()
+    right.semilogx(speeds, coefficient, "o-", label="M / (P R*)")
+    right.set_xlabel("rolling speed |V| [mm/s]")
+    right.set_ylabel("M / (P R*)")
+    twin = right.twinx()
+    twin.semilogx(speeds, -creep, "s--", color="C3", label="overfeed -xi")
+    twin.set_ylabel("overfeed -xi at Q/(mu P) = 0.3")
+    right.set_title("cases/rubber_cover.toml: 5 mm SLS cover, E_g = 3 E_r, driven")
+    lines = right.get_legend_handles_labels()[0] + twin.get_legend_handles_labels()[0]
+    right.legend(lines, [line.get_label() for line in lines], fontsize=8, loc="upper left")
+    print("cover speeds", " ".join(f"{v:.4g}" for v in coefficient), "|", " ".join(f"{v:.4g}" for v in creep))
     fig.tight_layout()
     out = ROOT / "benchmarks" / "results" / "viscoelastic_layer.png"
     fig.savefig(out, dpi=110)

@@ -28,10 +28,20 @@ functions in Fourier space, by Gauss-Legendre panels
 (:func:`~rolling_cli.references.layer_fourier.wavenumbers`). On a uniform grid
 both are block-Toeplitz: only the 2 N_e - 1 element offsets are integrated.
 
-Fast rolling (|b_i| -> inf) tends to J_g K_BEM + sum c_i (K_BEM - K_F), K_F the
-infinite layer of the Fourier transfer matrix: the glassy layer up to the BEM's
-own discretisation and truncation error (measured in
-tests/test_viscoelastic_layer.py).
+That alone would make fast rolling (|b_i| -> inf) J_g K_BEM + sum c_i (K_BEM - K_F),
+K_F the infinite layer of the Fourier transfer matrix: the glassy layer up to the
+BEM's own departure from the exact kernels (its compressible element-level
+terms, up to 15 % of the cross block on the diagonal at nu = 0.3, as the BEM
+half-space's; its truncation). So :func:`body_compliance` also carries that
+departure E = K_BEM - K_F along the history, on the nodes
+(:func:`upstream_filter`), which makes both limits exact; the filter is the only
+approximation in between (tests/test_viscoelastic_layer.py, README).
+
+Why this route: the BEM term keeps today's tyre model and its definite approach
+(overlap control works), the history needs only the layer's closed-form transfer
+matrix (no viscoelastic BEM, no complex-modulus BEM per speed), and everything
+that depends on the speed is Toeplitz, so a speed sweep rebuilds only
+O(N_e) integrals and the (n x n) filter products per row.
 """
 
 from __future__ import annotations
