@@ -94,7 +94,7 @@ def main() -> None:
     ax.set_xlabel("V tau_c / a_r")
     ax.set_ylabel("M / (P R)")
     ax.set_title("Rigid roller on SLS covers (E_g = 2 E_r, nu = 0.5)")
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(fontsize=8, loc="upper left")
     speeds, coefficient, creep = cover_speed_curve()
     right.semilogx(speeds, coefficient, "o-", label="M / (P R*)")
     right.set_xlabel("rolling speed |V| [mm/s]")
@@ -104,7 +104,7 @@ def main() -> None:
     twin.set_ylabel("overfeed -xi at Q/(mu P) = 0.3")
     right.set_title("cases/rubber_cover.toml: 5 mm SLS cover, E_g = 3 E_r, driven")
     lines = right.get_legend_handles_labels()[0] + twin.get_legend_handles_labels()[0]
-    right.legend(lines, [line.get_label() for line in lines], fontsize=8, loc="upper left")
+    right.legend(lines, [line.get_label() for line in lines], fontsize=8, loc="center left")
     print("cover speeds", " ".join(f"{v:.4g}" for v in coefficient), "|", " ".join(f"{v:.4g}" for v in creep))
     fig.tight_layout()
     out = ROOT / "benchmarks" / "results" / "viscoelastic_layer.png"
