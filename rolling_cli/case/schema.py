@@ -101,6 +101,12 @@ class Body:
         "[stress, time] (viscoelastic, instead of relaxed_young and creep_time)",
         convert=_prony,
     )
+    viscoelastic: bool = spec(
+        False,
+        doc="a viscoelastic layer (layered; its creep compliance from young = E_g and relaxed_young and "
+        "creep_time, or prony, as kind = viscoelastic)",
+        kind="bool",
+    )
     shape: str = spec(
         "half-space",
         doc="what the influence model represents: the half-space near the contact, or the whole cross-section",
@@ -148,7 +154,7 @@ class Body:
         viscoelastic one (the mesh scale: its contact is the widest) [stress]."""
         if self.rigid:
             return math.inf
-        if self.kind == "viscoelastic":
+        if self.kind == "viscoelastic" or (self.kind == "layered" and self.viscoelastic):
             from ..model.viscoelastic import relaxed_modulus
 
             return relaxed_modulus(self)

@@ -8,7 +8,9 @@
   a half-space truncated at half-width ``block_width`` a and depth
   ``block_depth`` a (far-field displacement on the truncation, the approach
   measured from depth D) for an elastic body, the layer (thickness b, free
-  length ``layer_length`` b beyond the zone on each side) for a layered one;
+  length ``layer_length`` b beyond the zone on each side) for a layered one,
+  with the steady-rolling history terms of :mod:`.viscoelastic_layer` when the
+  layer is viscoelastic (built with E = E_g, then weighted by J);
   none for a rigid body; one for two identical bodies. The pair is formed by
   :func:`~rolling_cli.influence.combine`.
 
@@ -31,7 +33,7 @@ import numpy as np
 
 from ..model.grid import ContactGrid
 from ..model.viscoelastic import bodies as viscoelastic_bodies
-from ..model.viscoelastic import material
+from ..model.viscoelastic import from_body, material, viscoelastic_layer
 from . import Compliance, combine, halfplane
 
 if TYPE_CHECKING:  # the BEM package (and scipy.linalg) is imported only when a BEM body is built
@@ -63,7 +65,12 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
             bodies[label], origin[label] = bodies["A"], "reused"
         else:
             inputs = bem_inputs(case, the_plan, body)
-            bodies[label], origin[label] = _bem_body(inputs, use_cache)
+            found, origin[label] = _bem_body(inputs, use_cache)
+            if viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
+                found = _viscoelastic_layer(
+                    found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
+                )
+            bodies[label] = found
     if a.finite or b.finite:  # exact geometry and hoop strain of finite cylinders
         from . import finite as _finite
 
@@ -94,12 +101,12 @@ def bem_inputs(case, the_plan, body) -> dict:
             "half_width": disc.block_width * the_plan.half_width,
             "depth": disc.block_depth * the_plan.half_width,
         }
-    elastic = material(body)  # a layered body's: its layer's
-    assert elastic is not None and elastic.elastic, "a BEM body is elastic (the case checks refuse others)"
+    layer = material(body)  # a layered body's: its layer's; a viscoelastic layer's BEM is at E_g
+    assert layer is not None, "a rigid body has no BEM"
     inputs = {
         "kind": body.kind,
-        "young": elastic.young,
-        "poisson": elastic.poisson,
+        "young": layer.young,
+        "poisson": layer.poisson,
         "zone_half_width": grid.half_width,
         "elements": grid.elements,
         **geometry,
@@ -217,6 +224,16 @@ def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarr
 @functools.lru_cache(maxsize=8)
 def _halfplane(grid, material_a, material_b, coupling) -> Compliance:
     return halfplane.materials_pair(grid, material_a, material_b, coupling)
+
+
+def _viscoelastic_layer(elastic: Compliance, grid: ContactGrid, body, speed: float, direction: int) -> Compliance:
+    """A viscoelastic layer's compliance from its elastic BEM layer (built with E = E_g)."""
+    from . import viscoelastic_layer as layer
+
+    model = from_body(body)
+    if model is None:
+        raise ValueError("not a viscoelastic body")
+    return layer.body_compliance(elastic, grid, model, float(body.layer_thickness), speed, direction)
 
 
 @functools.lru_cache(maxsize=8)

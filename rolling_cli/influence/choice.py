@@ -7,8 +7,9 @@ discretisation error. The BEM is needed when the closed form does not model
 the scene: a layered body (no closed form), or an imposed overlap (the
 half-plane's approach is undefined: the log kernel leaves it free; the BEM
 half-space measures it from the points at depth D below the contact). A
-viscoelastic body has only the half-plane kernel
-(:mod:`.viscoelastic`).
+viscoelastic half-space has only the half-plane kernel
+(:mod:`.viscoelastic`); a viscoelastic layer is the BEM layer with history
+terms (:mod:`.viscoelastic_layer`).
 "bem" and "half-plane" force a model.
 """
 

@@ -18,7 +18,9 @@ axial length:
   -sgn(V) x_c;
 * the hysteresis power in the bodies per unit |V|, from the loss compliance
   (:mod:`rolling_cli.references.hysteresis`, an independent route; quadratic
-  elements enter as cell averages, :func:`quadratic_cells`).
+  elements enter as cell averages, :func:`quadratic_cells`); a viscoelastic
+  layer adds its loss beyond the half-plane's
+  (:func:`rolling_cli.references.layer_fourier.remainder_power`).
 
 In steady state the shafts' power balances the losses: |V| M / R* =
 hysteresis + frictional power + xi Q |V| (the last the power of the speed
@@ -31,7 +33,7 @@ import math
 
 import numpy as np
 
-from ..references import hysteresis
+from ..references import hysteresis, layer_fourier
 from . import viscoelastic
 
 #: Cells per quadratic element for the hysteresis (the Fourier formula takes piecewise-constant
@@ -78,6 +80,15 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) ->
     for label, model in viscoelastic.bodies(case).items():
         t = cells_t if label == "A" else -cells_t
         power += hysteresis.body_power(h, cells_n, t, model.compliances, model.lengths(speed), model.poisson)
+        body = getattr(case.bodies, label)
+        if viscoelastic.viscoelastic_layer(body):  # the layer's loss beyond the half-plane's (quadratic elements)
+            half = 1.5 * float(system.spacing)
+            centres = np.asarray(x, dtype=float).reshape(-1, 3)[:, 1]
+            sign = 1.0 if label == "A" else -1.0
+            power += layer_fourier.remainder_power(
+                centres, half, p_n, sign * p_t, float(body.layer_thickness), model.compliances,
+                model.lengths(speed), model.poisson,
+            )  # fmt: skip
     return {
         "rolling_resistance_moment": moment,
         "rolling_resistance_moment_a": m_a,

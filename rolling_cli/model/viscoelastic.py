@@ -152,9 +152,20 @@ def material(body) -> Material | None:
     return from_body(body) or elastic(float(body.young), float(body.poisson))
 
 
+def is_viscoelastic(body) -> bool:
+    """True for a viscoelastic half-space (``kind = "viscoelastic"``) or a viscoelastic layer
+    (``kind = "layered"`` with ``viscoelastic = true``, the rubber cover on a rigid core)."""
+    return body.kind == "viscoelastic" or (body.kind == "layered" and bool(getattr(body, "viscoelastic", False)))
+
+
+def viscoelastic_layer(body) -> bool:
+    """True for a viscoelastic layer on a rigid core (:mod:`rolling_cli.influence.viscoelastic_layer`)."""
+    return body.kind == "layered" and is_viscoelastic(body)
+
+
 def from_body(body) -> Viscoelastic | None:
     """The creep compliance of a case body (:class:`~rolling_cli.case.schema.Body`); None unless viscoelastic."""
-    if body.kind != "viscoelastic":
+    if not is_viscoelastic(body):
         return None
     if body.prony is not None:
         return prony_relaxation(float(body.young), body.prony, float(body.poisson))
@@ -216,12 +227,20 @@ def prony_terms(value: Any, key: str, file: str | None) -> tuple[tuple[float, fl
 
 def check_body(body, key: str, file: str | None) -> None:
     """Cross-key rules of a viscoelastic body ``key`` = "bodies.X" (CaseError, one line)."""
-    if body.kind != "viscoelastic":
+    if getattr(body, "viscoelastic", False) and body.kind in ("elastic", "rigid"):
+        raise CaseError(
+            f'{key}.viscoelastic = true: not used by kind = "{body.kind}"; allowed: kind = "viscoelastic" '
+            '(a viscoelastic half-space) or kind = "layered" (a viscoelastic cover on a rigid core)',
+            file=file,
+            key=f"{key}.viscoelastic",
+        )
+    if not is_viscoelastic(body):
         for name in ("relaxed_young", "creep_time", "prony"):
             if getattr(body, name) is not None:
+                hint = ", or viscoelastic = true" if body.kind == "layered" else ', or kind = "viscoelastic"'
                 raise CaseError(
                     f'{key}.{name} = {getattr(body, name)!r}: not used by kind = "{body.kind}"; '
-                    'allowed: remove it, or kind = "viscoelastic"',
+                    f"allowed: remove it{hint}",
                     file=file,
                     key=f"{key}.{name}",
                 )
@@ -244,10 +263,11 @@ def check_body(body, key: str, file: str | None) -> None:
                 key=f"{key}.prony",
             )
         return
+    what = 'kind = "viscoelastic"' if body.kind == "viscoelastic" else "viscoelastic = true"
     for name in ("relaxed_young", "creep_time"):
         if getattr(body, name) is None:
             raise CaseError(
-                f'{key}.{name}: missing key (kind = "viscoelastic"); allowed: a number > 0, or {key}.prony instead',
+                f"{key}.{name}: missing key ({what}); allowed: a number > 0, or {key}.prony instead",
                 file=file,
                 key=f"{key}.{name}",
             )
@@ -261,41 +281,48 @@ def check_body(body, key: str, file: str | None) -> None:
 
 
 def check_case(case, file: str | None) -> None:
-    """Case-wide rules once any body is viscoelastic: ``rolling.speed`` given, the closed-form
-    half-plane on a uniform grid under load control (the only model with a viscoelastic kernel so
-    far)."""
-    labels = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "viscoelastic"]
+    """Case-wide rules once any body is viscoelastic: ``rolling.speed`` given, a uniform grid;
+    a viscoelastic half-space on the closed-form half-plane under load control, not paired with a
+    layer; a viscoelastic layer (the BEM layer with its history terms) not paired with a
+    viscoelastic half-space."""
+    labels = [label for label in ("A", "B") if is_viscoelastic(getattr(case.bodies, label))]
     if not labels:
         return
-    first = f'bodies.{labels[0]}.kind = "viscoelastic"'
+    body = getattr(case.bodies, labels[0])
+    phrase = 'kind = "viscoelastic"' if body.kind == "viscoelastic" else "viscoelastic = true"
+    first = f"bodies.{labels[0]}.{phrase}"
     if case.rolling.speed is None:
         raise CaseError(
             f"rolling.speed: missing key ({first}); allowed: the rolling speed |V| > 0 [length/time]",
             file=file,
             key="rolling.speed",
         )
-    others = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "layered"]
-    if others:
-        raise CaseError(
-            f'bodies.{others[0]}.kind = "layered": a layer with a viscoelastic body ({first}) is not modelled yet; '
-            'allowed: "elastic" | "rigid" | "viscoelastic"',
-            file=file,
-            key=f"bodies.{others[0]}.kind",
-        )
     disc = case.discretization
-    if disc.influence == "bem":
-        raise CaseError(
-            f'discretization.influence = "bem": a viscoelastic body ({first}) has only the closed-form '
-            'half-plane kernel; allowed: "auto" | "half-plane"',
-            file=file,
-            key="discretization.influence",
-        )
     if disc.tolerance is not None:
         raise CaseError(
             f"discretization.tolerance = {disc.tolerance!r}: adaptive (graded) meshes have no viscoelastic kernel "
             f"yet ({first}); allowed: remove it (a uniform grid)",
             file=file,
             key="discretization.tolerance",
+        )
+    halves = [label for label in labels if getattr(case.bodies, label).kind == "viscoelastic"]
+    if not halves:
+        return
+    first = f'bodies.{halves[0]}.kind = "viscoelastic"'
+    others = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "layered"]
+    if others:
+        raise CaseError(
+            f'bodies.{others[0]}.kind = "layered": a layer with a viscoelastic half-space ({first}) is not '
+            'modelled yet; allowed: "elastic" | "rigid" | "viscoelastic"',
+            file=file,
+            key=f"bodies.{others[0]}.kind",
+        )
+    if disc.influence == "bem":
+        raise CaseError(
+            f'discretization.influence = "bem": a viscoelastic body ({first}) has only the closed-form '
+            'half-plane kernel; allowed: "auto" | "half-plane"',
+            file=file,
+            key="discretization.influence",
         )
     if case.normal.load is None:
         raise CaseError(

@@ -14,6 +14,7 @@ from ..case import Case
 from ..case.given import given
 from ..influence.finite import shaft_quantities
 from ..model.validity import half_space_check
+from ..model.viscoelastic import is_viscoelastic
 from ..references import carter, hertz
 from ..result import Result, node_states, utc_timestamp
 from ..solver.formulation import State
@@ -109,8 +110,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
     attrs.update(_sensitivities(case, system, state, converged, half_width))
     attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
-    visco = a.kind == "viscoelastic" or b.kind == "viscoelastic"
-    if visco:  # rolling resistance, pressure shift, hysteresis (nothing for an elastic case)
+    if is_viscoelastic(a) or is_viscoelastic(b):  # rolling resistance, pressure shift, hysteresis (none if elastic)
         from ..model import resistance
 
         attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius))

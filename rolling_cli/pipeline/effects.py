@@ -20,7 +20,9 @@ Every skip is exact, not an approximation:
   identical bodies share one.
 * **viscoelastic**: simulated when a body is ``kind = "viscoelastic"`` (the
   steady-rolling half-plane kernels of :mod:`rolling_cli.influence.viscoelastic`,
-  the line gives V tau / a); an elastic case builds nothing for it. The
+  the line gives V tau / a) or a layer with ``viscoelastic = true`` (the BEM
+  layer with the history terms of :mod:`rolling_cli.influence.viscoelastic_layer`);
+  an elastic case builds nothing for it. The
   coupling of a pair with a viscoelastic body is skipped only when both bodies'
   cross compliances agree at every time of the history.
 
@@ -32,6 +34,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from dataclasses import dataclass, field
 
 from ..case.given import given
@@ -106,6 +109,7 @@ def identical(a: Body, b: Body) -> bool:
         and a.relaxed_young == b.relaxed_young
         and a.creep_time == b.creep_time
         and a.prony == b.prony
+        and a.viscoelastic == b.viscoelastic
         and a.shape == b.shape
         and (not a.finite or (a.radius == b.radius and a.inner_radius == b.inner_radius))
     )
@@ -124,12 +128,15 @@ def cross_compliance(case: Case) -> float:
 
 
 def _relaxed_half_width(case: Case) -> float:
-    """Hertz a [length] of the pair with the relaxed moduli (the mesh scale of a viscoelastic case)."""
+    """Hertz a [length] of the pair with the relaxed moduli (the mesh scale of a viscoelastic case);
+    under overlap control (a viscoelastic layer) the interference half-width sqrt(2 R* d)."""
     from ..references import hertz
 
     a, b = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
     r_star = materials.effective_radius(a.radius, b.radius)
+    if case.normal.load is None:
+        return math.sqrt(2.0 * r_star * given(case.normal.overlap, "normal.overlap"))
     return hertz.half_width(given(case.normal.load, "normal.load"), r_star, e_star)
 
 

@@ -131,7 +131,9 @@ def _viscoelastic(case: Case) -> bool:
     """A viscoelastic body: the Hertz start is off (narrower, shifted pressure), so large grids are
     sequenced like coupled ones (measured: rigid roller on an SLS flat, 800 elements, 16 -> 7 Newton
     iterations on the case grid)."""
-    return case.bodies.A.kind == "viscoelastic" or case.bodies.B.kind == "viscoelastic"
+    from ..model.viscoelastic import is_viscoelastic
+
+    return is_viscoelastic(case.bodies.A) or is_viscoelastic(case.bodies.B)
 
 
 def hertz_applies(case: Case) -> bool:
@@ -179,7 +181,7 @@ def first_guess(case: Case, e_star: float, r_star: float) -> float:
         guess = hertz.half_width(load, r_star, e_star)
         for body in layers:
             b = given(body.layer_thickness, "layer_thickness")
-            young, nu = given(body.young, "young"), given(body.poisson, "poisson")
+            young, nu = body.modulus, given(body.poisson, "poisson")  # a viscoelastic layer's E_r: the widest
             thin = max(
                 thin_layer.compressible_half_width(load, r_star, young, nu, b),
                 thin_layer.incompressible_half_width(load, r_star, young, b),

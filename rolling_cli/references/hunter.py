@@ -32,9 +32,21 @@ import numpy as np
 FOLDS = 24
 
 
-def kernel(h: float, cells: int, period: float, glassy: float, compliances, lengths, poisson: float) -> np.ndarray:
+def kernel(
+    h: float,
+    cells: int,
+    period: float,
+    glassy: float,
+    compliances,
+    lengths,
+    poisson: float,
+    thickness: float | None = None,
+) -> np.ndarray:
     """w at cell centres per unit pressure on cell 0, at lags 0..cells-1 and -(cells-1)..-1 (FFT order)
-    [length/stress]; ``lengths`` the signed history lengths b_i [length]."""
+    [length/stress]; ``lengths`` the signed history lengths b_i [length]; ``thickness`` b [length]: a
+    layer bonded to a rigid base instead of the half-plane (its normal compliance
+    :func:`~rolling_cli.references.layer_fourier.transfer`, the half-plane's times 1 - R_nn / (2 (1 -
+    nu^2) / |k|))."""
     m = np.fft.fftfreq(cells, d=1.0 / cells)  # integer wavenumber indices
     total = np.zeros(cells, dtype=complex)
     for q in range(-FOLDS, FOLDS + 1):
@@ -44,17 +56,33 @@ def kernel(h: float, cells: int, period: float, glassy: float, compliances, leng
         for c, b in zip(compliances, lengths, strict=True):
             compliance += c / (1.0 - 1j * k * b)
         spectrum = 2.0 * (1.0 - poisson**2) / np.abs(safe) * compliance * h * np.sinc(k * h / (2.0 * np.pi))
+        if thickness is not None:
+            from .layer_fourier import remainder
+
+            r_nn = remainder(np.abs(safe), thickness, poisson)[0]
+            spectrum = spectrum * (1.0 - r_nn * np.abs(safe) / (2.0 * (1.0 - poisson**2)))
         spectrum[k == 0.0] = 0.0  # the mean displacement is free (the approach unknown takes it)
         total += spectrum
     return np.real(np.fft.ifft(total)) * cells / period
 
 
-def solve(load: float, radius: float, glassy: float, compliances, lengths, poisson: float, h: float, period: float):
+def solve(
+    load: float,
+    radius: float,
+    glassy: float,
+    compliances,
+    lengths,
+    poisson: float,
+    h: float,
+    period: float,
+    thickness: float | None = None,
+):
     """Cell centres x [length] and pressures p >= 0 [stress] of the rigid roller (radius R, load P per unit
-    length) on the viscoelastic half-plane, by the active-set iteration."""
+    length) on the viscoelastic half-plane (or layer of ``thickness`` on a rigid base), by the
+    active-set iteration."""
     cells = int(round(period / h))
     x = (np.arange(cells) - cells // 2) * h
-    lag = kernel(h, cells, period, glassy, compliances, lengths, poisson)
+    lag = kernel(h, cells, period, glassy, compliances, lengths, poisson, thickness)
     gap0 = x**2 / (2.0 * radius)
     relaxed = glassy + sum(compliances)
     a = math.sqrt(4.0 * load * radius * relaxed * (1.0 - poisson**2) / math.pi)
@@ -92,17 +120,19 @@ def rolling_resistance(
     speed: float,
     direction: int = -1,
     cells_per_a: int = 120,
+    thickness: float | None = None,
 ) -> float:
     """Rolling-resistance coefficient x_c / R [-] of a rigid cylinder (radius R [length], load P
     [force/length]) rolling at |V| [length/time] without friction on a standard linear solid
     (E_g, E_r [stress], creep time tau_c [time], nu). ``cells_per_a``: cells per relaxed Hertz
-    half-width."""
+    half-width; ``thickness`` b [length]: a layer of the material bonded to a rigid base instead of
+    the half-plane (the cells and the period are still set by the relaxed Hertz half-width)."""
     glassy = 1.0 / glassy_young
     c = 1.0 / relaxed_young - glassy
     ell = speed * creep_time
     a = math.sqrt(4.0 * load * radius * (1.0 - poisson**2) / (math.pi * relaxed_young))
     h = a / cells_per_a
     period = max(40.0 * a, 30.0 * ell)
-    x, p = solve(load, radius, glassy, [c], [-direction * ell], poisson, h, period)
+    x, p = solve(load, radius, glassy, [c], [-direction * ell], poisson, h, period, thickness)
     centroid = float(np.sum(p * x) * h / load)
     return -direction * centroid / radius

@@ -1,0 +1,203 @@
+"""Steady-rolling compliance of a viscoelastic layer bonded to a rigid core (the rubber cover).
+
+A layer of thickness b, constant nu and creep compliance
+J(t) = J_g + sum_i c_i (1 - exp(-t/lambda_i)) (:mod:`rolling_cli.model.viscoelastic`)
+rolls at speed |V|. As for the half-plane (:mod:`.viscoelastic`), its surface
+displacement is the unit-modulus elastic response K weighted by J over the
+load history met upstream,
+
+    u = J_g K[p] + sum_i c_i C_i[K[p]],   C_i[f](x) = int_0^inf exp(-s) f(x + b_i s) ds,
+
+b_i = -sgn(V) |V| lambda_i. Written as
+
+    u = J_r K[p] + sum_i c_i (C_i[K] - K)[p],   J_r = J_g + sum_i c_i = 1/E_r,
+
+the first term is today's BEM layer (:mod:`.bem`, built with E = E_g and scaled
+by E_g / E_r), so an elastic layer (no terms) is the tyre model to round-off and
+slow rolling (b_i -> 0, C_i -> identity) is the relaxed BEM layer exactly. The
+history term splits with the half-plane kernel K_hp (the layer's own nu) as
+
+    C_i[K] - K = (C_i[K_hp] - K_hp) + F^-1[ R~(q) (i q b_i / (1 - i q b_i)) ],
+
+R~ = K~ - K_hp~ the remainder of :func:`rolling_cli.references.layer_fourier.remainder`
+(C_b multiplies a Fourier transform by 1/(1 - i q b)). The first bracket is the
+closed form of :func:`.viscoelastic.quadratic_offsets` (the log constant
+cancels); the second is bounded at q -> 0 (R~ ~ -K_hp~ ~ 1/|q| there times
+q b) and decays like exp(-2 |q| b), so it is integrated on the element shape
+functions in Fourier space, by Gauss-Legendre panels
+(:func:`~rolling_cli.references.layer_fourier.wavenumbers`). On a uniform grid
+both are block-Toeplitz: only the 2 N_e - 1 element offsets are integrated.
+
+That alone would make fast rolling (|b_i| -> inf) J_g K_BEM + sum c_i (K_BEM - K_F),
+K_F the infinite layer of the Fourier transfer matrix: the glassy layer up to the
+BEM's own departure from the exact kernels (its compressible element-level
+terms, up to 15 % of the cross block on the diagonal at nu = 0.3, as the BEM
+half-space's; its truncation). So :func:`body_compliance` also carries that
+departure E = K_BEM - K_F along the history, on the nodes
+(:func:`upstream_filter`), which makes both limits exact; the filter is the only
+approximation in between (tests/test_viscoelastic_layer.py, README).
+
+Why this route: the BEM term keeps today's tyre model and its definite approach
+(overlap control works), the history needs only the layer's closed-form transfer
+matrix (no viscoelastic BEM, no complex-modulus BEM per speed), and everything
+that depends on the speed is Toeplitz, so a speed sweep rebuilds only
+O(N_e) integrals and the (n x n) filter products per row.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..model.grid import ContactGrid
+from ..model.viscoelastic import Viscoelastic
+from ..references import layer_fourier
+from . import Compliance
+from .halfplane import _length_scale, _toeplitz_gather, log_offsets, sign_offsets
+from .viscoelastic import history_lengths, quadratic_offsets
+
+#: Complex phases formed at once by :func:`fourier_offsets` (bounds a temporary to 32 MB).
+_PHASES = 1 << 21
+
+
+def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths) -> np.ndarray:
+    """F^-1[R~ (i q b / (1 - i q b)) N~_k](y_oa) per element offset for each history length b in
+    ``lengths`` [length], shape (b, 3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) [length^2, at unit
+    modulus]: (1/pi) Re int_0^inf ... exp(i q y) dq, y the target node's offset from the source
+    element's centre (R_nt = -i g_R).
+
+    The offsets are the multiples y = j h/3 (h the element length, j = 3 o + a - 1), so the
+    phases are the powers z^j of z = exp(i q h/3) (a running product, round-off ~ j eps), and
+    -j takes the conjugates: two real matrix products for all rows and all lengths, on one set of
+    wavenumbers."""
+    lengths = tuple(float(b) for b in lengths)
+    half = 0.5 * grid.element_length
+    step = grid.element_length / 3.0
+    top = 3 * grid.elements - 2  # the largest |j|
+    q, w = layer_fourier.wavenumbers((top + 3) * step, thickness, lengths)
+    r_nn, r_tt, g_r = layer_fourier.remainder(q, thickness, poisson)
+    shapes = layer_fourier.quadratic_spectra(q, half)  # (q, 3)
+    columns = np.concatenate(
+        [
+            (w * (1j * q * b / (1.0 - 1j * q * b)) * r)[:, None] * shapes
+            for b in lengths
+            for r in (r_nn, r_tt, -1j * g_r)
+        ],
+        axis=1,
+    )
+    even = np.zeros((top + 1, columns.shape[1]))  # Re(z^j G) = even -+ odd for +-j
+    odd = np.zeros_like(even)
+    chunk = max(1, _PHASES // (top + 1))  # wavenumbers per block of phases (bounds the temporary)
+    for lo in range(0, q.size, chunk):
+        part = slice(lo, lo + chunk)
+        powers = np.empty((top + 1, q[part].size), dtype=complex)
+        powers[0] = 1.0
+        powers[1:] = np.exp(1j * q[part] * step)[None, :]
+        np.cumprod(powers, axis=0, out=powers)
+        even += powers.real @ columns[part].real
+        odd += powers.imag @ columns[part].imag
+    even /= math.pi
+    odd /= math.pi
+    ne = grid.elements
+    j = 3 * np.arange(-(ne - 1), ne)[:, None] + np.arange(-1, 2)[None, :]  # (o, a)
+    out = even[np.abs(j)] - np.sign(j)[..., None] * odd[np.abs(j)]  # (o, a, b 3 3)
+    return out.reshape(2 * ne - 1, 3, len(lengths), 3, 3).transpose(2, 3, 0, 1, 4)  # (b, block, o, a, k)
+
+
+def history_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths) -> np.ndarray:
+    """(C_b[K] - K) of the unit-modulus layer per element offset for each history length b in
+    ``lengths`` [length], shape (b, 3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) [length^2]: the
+    half-plane's closed form plus the remainder's Fourier part."""
+    if grid.order != 2 or not grid.uniform:
+        raise ValueError("the viscoelastic layer needs a uniform grid of quadratic elements")
+    scale = _length_scale(grid)
+    elastic_log, elastic_sign = log_offsets(grid, scale), sign_offsets(grid)
+    out = fourier_offsets(grid, thickness, poisson, lengths)
+    for n, b in enumerate(lengths):
+        log_b, sign_b = _halfplane_history(grid, float(b), scale)
+        direct = 2.0 * (1.0 - poisson**2) / math.pi * (log_b - elastic_log)
+        out[n] += np.stack([direct, -direct, 0.5 * (1.0 - 2.0 * poisson) * (1.0 + poisson) * (sign_b - elastic_sign)])
+    return out
+
+
+#: |b| / (zone width) of the history length that stands for b -> inf: C_b[K_F] ~ K~(0) / |b| is then
+#: ~1e-12 of K, and the log constants (ln |b| ~ 28) cancel to ~1e-14.
+FAST = 1e12
+#: |b| / (zone width) beyond which the half-plane's history kernels take their limit form.
+HUGE = 1e10
+
+
+def _halfplane_history(grid: ContactGrid, b: float, scale: float) -> tuple[np.ndarray, np.ndarray]:
+    """(C_b[log], C_b[sign]) element offsets of :func:`.viscoelastic.quadratic_offsets` [length]; for
+    |b| > HUGE zone widths their limits: C_b[ln(|u|/L)] -> ln|b| - gamma - ln L and C_b[sgn u] ->
+    sgn(b), times the shape integrals (the omitted Phi(u/b) ~ |u/b| ln|b/u| < 3e-9 of them)."""
+    if abs(b) <= HUGE * 2.0 * grid.half_width:
+        return quadratic_offsets(grid, b, scale)
+    from ..model.grid import shape_integrals
+    from .viscoelastic import EULER_GAMMA
+
+    half = 0.5 * grid.element_length
+    integrals = np.broadcast_to(half * shape_integrals(2), (2 * grid.elements - 1, 3, 3))
+    constant = math.log(abs(b)) - EULER_GAMMA - math.log(scale)
+    return constant * integrals, math.copysign(1.0, b) * integrals
+
+
+def upstream_filter(x: np.ndarray, b: float) -> np.ndarray:
+    """F[i, m] [-]: the weight of node m's cell in C_b at node i, int over the cell of the upstream
+    density exp(-(s - x_i)/b) / |b| (s on the side of x_i that b points to), for node positions x
+    [length] (cells of :func:`~rolling_cli.model.grid.node_cell_edges`): C_b of a function known
+    only at the nodes, taken piecewise constant on the cells, and zero beyond the zone."""
+    from ..model.grid import node_cell_edges
+
+    edges = node_cell_edges(x)
+    lo, hi = edges[:-1][None, :] - x[:, None], edges[1:][None, :] - x[:, None]  # (i, m) relative
+    if b > 0.0:
+        lo, hi = np.maximum(lo, 0.0), np.maximum(hi, 0.0)
+    else:
+        lo, hi = np.minimum(lo, 0.0), np.minimum(hi, 0.0)
+    return np.abs(np.expm1(-hi / b) - np.expm1(-lo / b))
+
+
+def body_compliance(
+    elastic: Compliance,
+    grid: ContactGrid,
+    model: Viscoelastic,
+    thickness: float,
+    speed: float,
+    direction: int,
+) -> Compliance:
+    """The viscoelastic layer's compliance [length/stress] on ``grid`` from its elastic BEM layer
+    ``elastic`` (built with E = E_g, the body's ``young``) [length/stress]: ``thickness`` b [length],
+    ``speed`` |V| [length/time], ``direction`` sgn(V).
+
+    J_r K_BEM + sum_i c_i (C_i[K] - K) with C_i[K] - K = (C_i[K_F] - K_F) + (C_i[E] - E): the
+    first from :func:`history_offsets`, the second the BEM's own departure E = K_BEM - K_F from
+    the Fourier layer K_F (its element-level discretisation, the truncated layer) convolved on
+    the nodes by :func:`upstream_filter`. K_F is :func:`history_offsets` at |b| = :data:`FAST`
+    (C_b[K_F] -> 0), so both limits are exact: b_i -> 0 the relaxed BEM layer, |b_i| -> inf
+    J_g K_BEM. The filter is the only approximation in between (E is known at the nodes only)."""
+    if elastic.S_nt is None or elastic.S_tn is None:
+        raise ValueError("the BEM layer carries its coupling blocks")
+    factor = model.relaxed / model.glassy  # J_r E_g
+    blocks = [elastic.S_nn, elastic.S_tt, elastic.S_nt, elastic.S_tn]
+    out = [factor * block for block in blocks]
+    terms = [
+        (c, b)
+        for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True)
+        if c != 0.0 and b != 0.0  # no history: E_r = E_g, or at rest
+    ]
+    if not terms:
+        return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
+    fast = math.copysign(FAST * 2.0 * grid.half_width, terms[0][1])
+    offsets_all = history_offsets(grid, thickness, model.poisson, (fast, *(b for _, b in terms)))
+    layer_f = [-_toeplitz_gather(grid, offsets_all[0, k]) for k in (0, 1, 2, 2)]  # K_F, unit modulus
+    departure = [model.glassy_young * block - f for block, f in zip(blocks, layer_f, strict=True)]
+    n = grid.size
+    stacked = np.concatenate(departure, axis=1)  # (n, 4n): one product per term
+    for (c, b), offsets in zip(terms, offsets_all[1:], strict=True):
+        filtered = upstream_filter(np.asarray(elastic.x, dtype=float), b) @ stacked - stacked
+        history = [_toeplitz_gather(grid, offsets[block]) for block in (0, 1, 2)]
+        for k, block in enumerate((0, 1, 2, 2)):
+            out[k] = out[k] + c * (history[block] + filtered[:, k * n : (k + 1) * n])
+    return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
