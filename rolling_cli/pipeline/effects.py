@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import dataclasses
 import json
-import math
 from dataclasses import dataclass, field
 
 from ..case.given import given
@@ -129,14 +128,17 @@ def cross_compliance(case: Case) -> float:
 
 def _relaxed_half_width(case: Case) -> float:
     """Hertz a [length] of the pair with the relaxed moduli (the mesh scale of a viscoelastic case);
-    under overlap control (a viscoelastic layer) the interference half-width sqrt(2 R* d)."""
-    from ..references import hertz
+    under overlap control (a viscoelastic layer) the layer's estimate of the planning's first guess
+    (:func:`rolling_cli.references.thin_layer.half_width_for_overlap`)."""
+    from ..references import hertz, thin_layer
 
     a, b = case.bodies.A, case.bodies.B
     e_star = materials.effective_modulus(a.modulus, a.ratio, b.modulus, b.ratio)
     r_star = materials.effective_radius(a.radius, b.radius)
     if case.normal.load is None:
-        return math.sqrt(2.0 * r_star * given(case.normal.overlap, "normal.overlap"))
+        incompressible = any(body.kind == "layered" and body.ratio >= 0.45 for body in (a, b))
+        overlap = given(case.normal.overlap, "normal.overlap")
+        return thin_layer.half_width_for_overlap(overlap, r_star, incompressible)
     return hertz.half_width(given(case.normal.load, "normal.load"), r_star, e_star)
 
 

@@ -46,6 +46,8 @@ T_MAX = 16.0
 #: Gauss-Legendre points per wavenumber panel, and per panel far below every feature's scale.
 PANEL_POINTS = 12
 LOW_POINTS = 6
+_PANEL_RULE = np.polynomial.legendre.leggauss(PANEL_POINTS)
+_LOW_RULE = np.polynomial.legendre.leggauss(LOW_POINTS)
 
 
 def transfer(k, thickness: float, poisson: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -108,8 +110,7 @@ def wavenumbers(span: float, thickness: float, scales=()) -> tuple[np.ndarray, n
     lo, hi = edges[:-1], edges[1:]
     small = hi <= 0.1 / largest
     nodes, weights = [], []
-    for points, chosen in ((LOW_POINTS, small), (PANEL_POINTS, ~small)):
-        x, w = np.polynomial.legendre.leggauss(points)
+    for (x, w), chosen in ((_LOW_RULE, small), (_PANEL_RULE, ~small)):
         a, b = lo[chosen, None], hi[chosen, None]
         nodes.append((0.5 * (a + b) + 0.5 * (b - a) * x[None, :]).ravel())
         weights.append((0.5 * (b - a) * w[None, :]).ravel())
