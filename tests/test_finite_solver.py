@@ -112,6 +112,14 @@ def test_effects_line(tmp_path):
     assert "body shape: finite cylinder (A: R = 5, bore 2)" in r.effects_line
 
 
+def test_twin_finite_cylinders_show_no_half_space_reference():
+    """Twin finite cylinders are exactly decoupled, but Carter's creepage and Hertz's pressure are
+    the half-space's (10 % off at a/R = 0.2, README's error map): not recorded as references."""
+    twin = _cylinder(5.0, 2.0, young=10.0)
+    r = solve(_case(twin, dict(twin), 0.5, 20))
+    assert r.carter_creep is None and r.reference == {}
+
+
 @pytest.mark.parametrize(
     ("body_a", "body_b", "key", "why"),
     [
