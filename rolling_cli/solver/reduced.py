@@ -256,7 +256,7 @@ def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | 
     if problem.friction is not None and problem.tangential:
         from . import velocity
 
-        return velocity.newton_point(problem, state, ev)
+        return velocity.newton_point(problem, state, ev, record)
     reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
     dz = solve_reduced(reduced, reduced.rhs, ev.relative_residual, record)
     return state_from_solution(problem, state, reduced, dz)
