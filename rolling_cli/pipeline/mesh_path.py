@@ -300,7 +300,7 @@ class MeshPath:
             # the coarse traction and creepage carry the law's stick zone. Not for a viscoelastic body,
             # whose pressure Hertz's is not: the coarse one, interpolated, is the better start there
             # (rigid roller on an SLS flat, 800 elements: 7 Newton iterations of the normal problem
-            # on the case grid from the fitted Hertz pressure, 9 from Hertz's with E_r, N from the coarse one)
+            # on the case grid from the fitted Hertz pressure, 9 from Hertz's with E_r, 5 from the coarse one)
             guess = initial_state(level.case, level.plan, self._system(level))
             guess.p_t, guess.creep = moved.p_t, moved.creep
             return guess, True, False
