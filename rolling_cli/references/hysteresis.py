@@ -62,7 +62,8 @@ def _spectrum(h: float, p: np.ndarray, ell: float) -> tuple[np.ndarray, np.ndarr
     lo, hi = small[:-1, None], small[1:, None]
     k_small = (0.5 * (hi + lo) + 0.5 * (hi - lo) * t[None, :]).ravel()
     w_small = (0.5 * (hi - lo) * wt[None, :]).ravel()
-    v_small = np.exp(-1j * np.outer(k_small, j * h)) @ p
+    phase = np.outer(k_small, j * h)
+    v_small = np.cos(phase) @ p - 1j * (np.sin(phase) @ p)  # exp(-i k x_j) @ p, real transcendentals
     k = np.concatenate([k_small, k_uniform.ravel()])
     w = np.concatenate([w_small, np.tile(0.5 * step * wt, n - 1)])
     return k, w, np.concatenate([v_small, values.reshape(-1, p.shape[1])])

@@ -98,12 +98,15 @@ def effective_hertz(system: ContactSystem, half_width: float, load: float) -> tu
         p_n = -hertz.pressure(x - centre, a, hertz.peak_pressure(load, a))
         p_n *= load / -(w @ p_n)
         shape = system.gap(p_n, zero, 0.0) - system.gap0  # the displacement, up to a constant
-        c2, c1, _ = np.polyfit(x[inside], shape[inside], 2)
-        rigid = np.polyfit(x[inside], system.gap0[inside], 2)[0]
+        local = x[inside] - centre  # centred: a well-conditioned Vandermonde matrix
+        vandermonde = np.stack([local**2, local, np.ones_like(local)], axis=1)
+        fit = np.linalg.lstsq(vandermonde, np.stack([shape[inside], system.gap0[inside]], axis=1), rcond=None)[0]
+        (c2, rigid), (c1, _) = fit[0], fit[1]
         k = -c2 / rigid if rigid != 0.0 else np.nan
         if not 0.1 < k < 10.0:
             break
-        a, centre = a * float(np.sqrt(k)), centre + float(c1 / (2.0 * c2))
+        # the displacement's lowest point is at centre - c1 / (2 c2): move the pressure by as much the other way
+        a, centre = a * float(np.sqrt(k)), float(c1 / (2.0 * c2))
     if not abs(centre) < a:
         return half_width, 0.0
     return a, centre
