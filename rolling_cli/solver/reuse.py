@@ -46,14 +46,22 @@ MAX_ITERATIONS = 10
 
 @dataclass(frozen=True)
 class _Kept:
-    """The kept factorisation: its owner (weak), the unknowns' layout, LAPACK's LU and pivots, and
-    |A| of the matrix it factorised (the rows' scales of the target)."""
+    """The kept factorisation: its owner (weak), the unknowns' layout, LAPACK's LU and pivots (of
+    A, or of A^T for a matrix in row order: ``trans`` 1), and |A| of the matrix it factorised (the
+    rows' scales of the target)."""
 
     owner: weakref.ref
     key: tuple
     lu: np.ndarray
     pivots: np.ndarray
+    trans: int
     magnitude: np.ndarray
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """A_kept^-1 rhs."""
+        from scipy.linalg import lapack
+
+        return lapack.dgetrs(self.lu, self.pivots, rhs, trans=self.trans)[0]
 
 
 _kept: _Kept | None = None
@@ -76,19 +84,22 @@ def solve(matrix: np.ndarray, rhs: np.ndarray, owner: object, key: tuple, record
 
     kept = _kept
     if kept is not None and kept.owner() is owner and kept.key == key:
-        x = _refined(matrix, rhs, kept, lapack)
-        if x is not None:
-            record.update(linear_solver="reused LU + GMRES", reuse_iterations=x[1])
-            return x[0]
-    lu, pivots, info = lapack.dgetrf(matrix)
-    x = lapack.dgetrs(lu, pivots, rhs)[0] if info == 0 else None
+        found = _refined(matrix, rhs, kept)
+        if found is not None:
+            record.update(linear_solver="reused LU + GMRES", reuse_iterations=found[1])
+            return found[0]
+    # LAPACK works on columns: a matrix in row order is factorised as its transpose (a view, no copy)
+    trans = 0 if matrix.flags.f_contiguous else 1
+    lu, pivots, info = lapack.dgetrf(matrix if trans == 0 else matrix.T)
+    fresh = _Kept(weakref.ref(owner), key, lu, pivots, trans, np.abs(matrix))
+    x = fresh.solve(rhs) if info == 0 else None
     if x is None or not np.all(np.isfinite(x)):  # an exactly singular pivot (info > 0)
         raise np.linalg.LinAlgError(_SINGULAR)
-    _kept = _Kept(weakref.ref(owner), key, lu, pivots, np.abs(matrix))
+    _kept = fresh
     return x
 
 
-def _refined(matrix: np.ndarray, rhs: np.ndarray, kept: _Kept, lapack) -> tuple[np.ndarray, int] | None:
+def _refined(matrix: np.ndarray, rhs: np.ndarray, kept: _Kept) -> tuple[np.ndarray, int] | None:
     """(x, GMRES iterations) by GMRES on the kept LU, or None when it does not reach the target.
 
     The target is componentwise, as a direct solve's backward error: |b - A x|_i <= 4 eps
@@ -99,7 +110,7 @@ def _refined(matrix: np.ndarray, rhs: np.ndarray, kept: _Kept, lapack) -> tuple[
     rows stay inaccurate, and Newton then stalls just above its tolerance (measured: the coupled
     dissimilar case of tests/test_friction_laws.py at 2.5e-10 against 1e-10). So GMRES solves the
     rows divided by these scales, D A x = D b, preconditioned by (D A_kept)^-1 = LU^-1 D^-1."""
-    first = lapack.dgetrs(kept.lu, kept.pivots, rhs)[0]
+    first = kept.solve(rhs)
     if not np.all(np.isfinite(first)):
         return None
     scale = kept.magnitude @ np.abs(first) + np.abs(rhs)
@@ -109,7 +120,7 @@ def _refined(matrix: np.ndarray, rhs: np.ndarray, kept: _Kept, lapack) -> tuple[
     result = krylov.gmres(
         lambda v: d * (matrix @ v),
         d * rhs,
-        lambda v: lapack.dgetrs(kept.lu, kept.pivots, v / d)[0],
+        lambda v: kept.solve(v / d),
         4.0 * np.finfo(float).eps,
         start=first,
         max_iterations=MAX_ITERATIONS,

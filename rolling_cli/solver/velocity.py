@@ -31,6 +31,7 @@ keeps :mod:`rolling_cli.solver.reduced`'s code path unchanged.
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,10 +42,33 @@ from .linalg import block as _dense_block
 
 
 def _block(matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-    """matrix[rows][:, cols] of a dense array or a block-Toeplitz operator."""
+    """matrix[rows][:, cols] of a dense array (a view where it can be) or a block-Toeplitz operator
+    (its entries gathered, kept for the next step: :func:`_gathered`)."""
     if isinstance(matrix, np.ndarray):
         return _dense_block(matrix, rows, cols)
-    return matrix.block(rows, cols)
+    return _gathered(matrix, rows, cols)
+
+
+#: Gathered blocks of block-Toeplitz operators kept between Newton steps, at most this many (the
+#: coupled system's four: S_nn, S_nt, B_tt, B_tn).
+KEPT_BLOCKS = 4
+_kept_blocks: list[tuple[weakref.ref, bytes, bytes, np.ndarray]] = []
+
+
+def _gathered(matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """matrix[rows][:, cols] of a block-Toeplitz operator, kept for the next call with the same
+    operator and index sets (read-only). The tangential stage holds p_n, so its traction nodes, and
+    with them the B_tt block, are the same at every step: gathering its entries again cost more
+    than the LU (800 traction nodes: 40 ms a step against 31 ms; 2-core x86_64)."""
+    key_rows, key_cols = rows.tobytes(), cols.tobytes()
+    for owner, kept_rows, kept_cols, values in _kept_blocks:
+        if owner() is matrix and kept_rows == key_rows and kept_cols == key_cols:
+            return values
+    values = matrix.block(rows, cols)
+    values.setflags(write=False)
+    _kept_blocks.insert(0, (weakref.ref(matrix), key_rows, key_cols, values))
+    del _kept_blocks[KEPT_BLOCKS:]
+    return values
 
 
 def _rows(matrix, rows: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -104,16 +128,18 @@ def velocity_system(problem: Problem, state: State, ev: Evaluation) -> VelocityS
     coupled = problem.mode == "coupled"
     contact = sets.contact if problem.normal else sets.contact[:0]
     slip = sets.slip
-    traction = np.union1d(sets.stick, slip)  # node order
     slipping = np.zeros(system.size, dtype=bool)
     slipping[slip] = True
+    member = slipping.copy()
+    member[sets.stick] = True
+    traction = np.flatnonzero(member)  # the adhesion and slip nodes in node order
     slipping = slipping[traction]
     nc, nt = contact.size, traction.size
     overlap_unknown, creep_unknown = problem.overlap_unknown, problem.creep_unknown
     size = nc + nt + overlap_unknown + creep_unknown
     col_overlap = nc + nt if overlap_unknown else None
     col_creep = nc + nt + overlap_unknown if creep_unknown else None
-    A = np.zeros((size, size), order="F")
+    A = np.zeros((size, size))  # row order: the rows are scaled copies of rows of the blocks
     rhs = np.zeros(size)
     cols_n, traction_rows = slice(0, nc), slice(nc, nc + nt)
     slip_rows = nc + np.flatnonzero(slipping)
@@ -132,7 +158,8 @@ def velocity_system(problem: Problem, state: State, ev: Evaluation) -> VelocityS
             A[col_overlap, cols_n] = w[contact] / lz
             rhs[col_overlap] = -problem.load / lz
     # adhesion rows r_t s_t = 0 and the slip rows p_t - h s_t, s_t = xi e + B_tt p_t + B_tn p_n
-    np.multiply(factor[:, None], _block(system.B_tt, traction, traction), out=A[traction_rows, traction_rows])
+    # (einsum: the block is a strided view; a broadcast multiply into A's view took 1.7x as long)
+    np.einsum("i,ij->ij", factor, _block(system.B_tt, traction, traction), out=A[traction_rows, traction_rows])
     A[slip_rows, slip_rows] += 1.0  # the slip rows' own p_t
     rhs[slip_rows] = -h[slipping] * ev.slip[slip]
     if system.B_tn is not None:
