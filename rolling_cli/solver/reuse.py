@@ -15,7 +15,7 @@ present matrix to the residual a direct solve leaves (max |b - A x| <=
 step whichever way it was solved: only the cost changes, never the iterates
 beyond round-off. When GMRES does not reach that target within
 :data:`MAX_ITERATIONS` (the matrix moved too far: the node states changed in
-many rows) the matrix is factorised afresh and that LU kept instead.
+many rows, or the slip speeds far) the matrix is factorised afresh and that LU kept instead.
 
 One factorisation is kept per process (the last one), with the identity of the
 contact system it belongs to (a weak reference) and the layout of its unknowns
@@ -38,10 +38,14 @@ from .linalg import _SINGULAR, MIXED_PRECISION_SIZE, solve_dense
 #: ~0.2 ms, a preconditioned GMRES iteration ~0.1 ms plus its set-up).
 REUSE_SIZE = 200
 
-#: GMRES iterations tried on an earlier LU before factorising afresh: at 400 unknowns an
-#: iteration costs ~0.2 ms and a fresh LU ~2.7 ms (2-core x86_64), so a failed attempt costs
-#: no more than the LU it tried to save.
-MAX_ITERATIONS = 10
+#: GMRES iterations tried on an earlier LU before factorising afresh: one per
+#: :data:`UNKNOWNS_PER_ITERATION` unknowns, within [:data:`MIN_ITERATIONS`, :data:`MAX_ITERATIONS`].
+#: An iteration (a product by A, a pair of triangular solves) costs O(n^2), a fresh LU O(n^3):
+#: measured on 2-core x86_64, 0.2-0.35 ms against 2.7-5 ms at 400 unknowns, 1.2 ms against 31 ms
+#: at 800, so a failed attempt costs about the LU it tried to save.
+UNKNOWNS_PER_ITERATION = 32
+MIN_ITERATIONS = 8
+MAX_ITERATIONS = 40
 
 
 @dataclass(frozen=True)
@@ -123,7 +127,7 @@ def _refined(matrix: np.ndarray, rhs: np.ndarray, kept: _Kept) -> tuple[np.ndarr
         lambda v: kept.solve(v / d),
         4.0 * np.finfo(float).eps,
         start=first,
-        max_iterations=MAX_ITERATIONS,
+        max_iterations=int(np.clip(matrix.shape[0] // UNKNOWNS_PER_ITERATION, MIN_ITERATIONS, MAX_ITERATIONS)),
     )
     return (result.x, result.iterations) if result.converged else None
 

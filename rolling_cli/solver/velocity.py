@@ -221,12 +221,25 @@ def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
 
 def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[float, np.ndarray]:
     """dQ/dxi [force/length] and dp_n/dxi [stress] (zero where p_n is held) at fixed node states
-    (creepage held), d mu/d s_a included (see :func:`rolling_cli.solver.reduced.creep_derivatives`)."""
+    (creepage held), d mu/d s_a included (see :func:`rolling_cli.solver.reduced.creep_derivatives`).
+
+    ``problem`` may hold the creepage or have it unknown (a prescribed force: the problem a
+    force-controlled solve converged on). In the second case its Newton matrix J is the held one,
+    A, bordered by the creepage column c (d rows / d(r_t xi)) and the force row, the creepage
+    last; with [u; s] = J^-1 e_last, A u + c s = 0, so A^-1 c = -u/s and the held derivative
+    A^-1 (d rhs/d xi) = A^-1 (-r_t c) = r_t u / s: one solve with the matrix of the last Newton
+    steps (whose factorisation :mod:`rolling_cli.solver.reuse` keeps), not a fresh LU of A."""
     reduced = velocity_system(problem, state, ev)
-    if reduced.creep_column is None:
-        raise ValueError("the creep sensitivity needs the creepage held")
-    dz = reuse.solve(reduced.matrix, reduced.creep_column, problem.system, reduced.key)
     nc, nt = reduced.contact.size, reduced.traction.size
+    if reduced.col_creep is not None:
+        unit = np.zeros(reduced.rhs.size)
+        unit[reduced.col_creep] = 1.0
+        bordered = reuse.solve(reduced.matrix, unit, problem.system, reduced.key)
+        dz = problem.system.penalty_t * bordered[: reduced.col_creep] / bordered[reduced.col_creep]
+    elif reduced.creep_column is not None:
+        dz = reuse.solve(reduced.matrix, reduced.creep_column, problem.system, reduced.key)
+    else:
+        raise ValueError("the creep sensitivity needs a tangential problem")
     dp_n = np.zeros_like(state.p_n)
     if problem.normal:
         dp_n[reduced.contact] = dz[:nc]
