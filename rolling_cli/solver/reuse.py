@@ -21,7 +21,12 @@ One factorisation is kept per process (the last one), with the identity of the
 contact system it belongs to (a weak reference) and the layout of its unknowns
 (``key``): a step of another system or another set of unknowns factorises
 afresh. Small systems (below :data:`REUSE_SIZE` unknowns) are always
-factorised afresh: their LU costs less than a GMRES iteration's overhead.
+factorised afresh: their LU costs less than a GMRES iteration's overhead. Large
+ones (from :data:`~rolling_cli.solver.linalg.MIXED_PRECISION_SIZE` unknowns)
+keep a single-precision LU, as :func:`~rolling_cli.solver.linalg.solve_dense`
+factorises them, and even their first solve is GMRES on it (flexible GMRES takes
+an inexact preconditioner: the iterative refinement of solve_dense, with Krylov
+acceleration).
 """
 
 from __future__ import annotations
@@ -51,8 +56,9 @@ MAX_ITERATIONS = 40
 @dataclass(frozen=True)
 class _Kept:
     """The kept factorisation: its owner (weak), the unknowns' layout, LAPACK's LU and pivots (of
-    A, or of A^T for a matrix in row order: ``trans`` 1), and |A| of the matrix it factorised (the
-    rows' scales of the target)."""
+    A, or of A^T for a matrix in row order: ``trans`` 1; in single precision from
+    :data:`~rolling_cli.solver.linalg.MIXED_PRECISION_SIZE` unknowns), and |A| of the matrix it
+    factorised (the rows' scales of the target)."""
 
     owner: weakref.ref
     key: tuple
@@ -62,9 +68,11 @@ class _Kept:
     magnitude: np.ndarray
 
     def solve(self, rhs: np.ndarray) -> np.ndarray:
-        """A_kept^-1 rhs."""
+        """A_kept^-1 rhs (in the LU's precision, returned in double)."""
         from scipy.linalg import lapack
 
+        if self.lu.dtype == np.float32:
+            return lapack.sgetrs(self.lu, self.pivots, rhs.astype(np.float32), trans=self.trans)[0].astype(float)
         return lapack.dgetrs(self.lu, self.pivots, rhs, trans=self.trans)[0]
 
 
@@ -82,25 +90,52 @@ def solve(matrix: np.ndarray, rhs: np.ndarray, owner: object, key: tuple, record
     size = matrix.shape[0]
     record = {} if record is None else record
     record.update(linear_solver="dense LU", reuse_iterations=0)
-    if size < REUSE_SIZE or size >= MIXED_PRECISION_SIZE:
+    if size < REUSE_SIZE:
         return solve_dense(matrix, rhs)
-    from scipy.linalg import lapack  # lazy: start-up (issue #14 item 1)
-
     kept = _kept
     if kept is not None and kept.owner() is owner and kept.key == key:
         found = _refined(matrix, rhs, kept)
         if found is not None:
             record.update(linear_solver="reused LU + GMRES", reuse_iterations=found[1])
             return found[0]
-    # LAPACK works on columns: a matrix in row order is factorised as its transpose (a view, no copy)
-    trans = 0 if matrix.flags.f_contiguous else 1
-    lu, pivots, info = lapack.dgetrf(matrix if trans == 0 else matrix.T)
-    fresh = _Kept(weakref.ref(owner), key, lu, pivots, trans, np.abs(matrix))
-    x = fresh.solve(rhs) if info == 0 else None
-    if x is None or not np.all(np.isfinite(x)):  # an exactly singular pivot (info > 0)
+    fresh = _factor(matrix, owner, key)
+    if fresh is None or fresh.lu.dtype == np.float32:  # refined to double precision by the same GMRES
+        found = None if fresh is None else _refined(matrix, rhs, fresh)
+        if fresh is None or found is None:  # the single-precision LU does not serve: as solve_dense
+            _kept = None
+            return solve_dense(matrix, rhs)
+        x = found[0]
+    else:
+        x = fresh.solve(rhs)
+    if not np.all(np.isfinite(x)):  # an exactly singular pivot
         raise np.linalg.LinAlgError(_SINGULAR)
     _kept = fresh
     return x
+
+
+def _factor(matrix: np.ndarray, owner: object, key: tuple) -> _Kept | None:
+    """The LU of ``matrix`` (single precision from MIXED_PRECISION_SIZE unknowns, as
+    :func:`~rolling_cli.solver.linalg.solve_dense`, None where that one is singular); raises
+    LinAlgError for an exactly singular matrix in double precision."""
+    from scipy.linalg import lapack  # lazy: start-up (issue #14 item 1)
+
+    from .. import blas
+
+    blas.settle()  # scipy's BLAS, perhaps loaded just now, on the command's threads
+    # LAPACK works on columns: a matrix in row order is factorised as its transpose (a view, no copy)
+    trans = 0 if matrix.flags.f_contiguous else 1
+    columns = matrix if trans == 0 else matrix.T
+    if matrix.shape[0] >= MIXED_PRECISION_SIZE:
+        lu, pivots, info = lapack.sgetrf(columns.astype(np.float32, order="F"))
+        magnitude = np.abs(matrix).astype(np.float32)
+    else:
+        lu, pivots, info = lapack.dgetrf(columns)
+        magnitude = np.abs(matrix)
+    if info != 0:
+        if lu.dtype == np.float32:
+            return None
+        raise np.linalg.LinAlgError(_SINGULAR)
+    return _Kept(weakref.ref(owner), key, lu, pivots, trans, magnitude)
 
 
 def _refined(matrix: np.ndarray, rhs: np.ndarray, kept: _Kept) -> tuple[np.ndarray, int] | None:
@@ -117,7 +152,7 @@ def _refined(matrix: np.ndarray, rhs: np.ndarray, kept: _Kept) -> tuple[np.ndarr
     first = kept.solve(rhs)
     if not np.all(np.isfinite(first)):
         return None
-    scale = kept.magnitude @ np.abs(first) + np.abs(rhs)
+    scale = (kept.magnitude @ np.abs(first).astype(kept.magnitude.dtype)).astype(float) + np.abs(rhs)
     if not np.all(scale > 0.0):
         return None
     d = 1.0 / scale
