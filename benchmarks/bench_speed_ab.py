@@ -4,10 +4,10 @@ Two pairs of in-process solves, each the median of cold solves (the influence me
 cleared) with the pair's two members alternated solve by solve, so that a shared
 machine's load hits both alike:
 
-* ``friction``: Carter's cylinders (half-plane, 200 elements by default), Coulomb
+* ``friction``: Carter's cylinders (half-plane, ``--elements``, 200 by default), Coulomb
   mu = 0.30 against the exponential law of issue 23 (mu_s 0.30, mu_k 0.18,
   s_h 100 mm/s at |V| = 45000 mm/s), creep and force control
-  (:mod:`bench_friction`'s cases);
+  (:mod:`bench_friction`'s cases; on further grids of ``--elements`` three of them);
 * ``visco``: a rigid roller and a steel roller on an SLS flat against their
   elastic twins with E_r (:mod:`bench_viscoelastic`'s cases), 200 and 800 elements.
 
@@ -18,7 +18,8 @@ trees alternated round by round (``--rounds``). Reported per case and tree: the 
 wall time [ms] and process CPU time [ms] of each member, their ratio, and the Newton
 iterations of all mesh levels. One BLAS thread.
 
-    python benchmarks/bench_speed_ab.py [--rounds 5] [--repeat 5] [--suite friction,visco] [--tree NAME=DIR ...]
+    python benchmarks/bench_speed_ab.py [--rounds 5] [--repeat 5] [--suite friction,visco] [--elements 200,400]
+                                        [--tree NAME=DIR ...]
 """
 
 from __future__ import annotations
@@ -37,8 +38,8 @@ HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 
 
-def _pairs(suite: str) -> dict[str, tuple[dict, dict]]:
-    """name -> (reference case dict, case dict) of a suite."""
+def _pairs(suite: str, elements: list[int]) -> dict[str, tuple[dict, dict]]:
+    """name -> (reference case dict, case dict) of a suite (friction: on each grid of ``elements``)."""
     sys.path.insert(0, str(HERE))
     if suite == "friction":
         import bench_friction as bf
@@ -46,9 +47,10 @@ def _pairs(suite: str) -> dict[str, tuple[dict, dict]]:
         controls = [{"creep": xi} for xi in (-0.0005, -0.001, -0.002, -0.004)]
         controls += [{"q_over_mu_p": q} for q in (0.3, 0.5, 0.7)]
         out = {}
-        for tangential in controls:
-            ((kind, value),) = tangential.items()
-            out[f"{kind} = {value:g}"] = (bf.case(200, tangential, False), bf.case(200, tangential, True))
+        for n in elements:
+            for tangential in controls if n == elements[0] else controls[2::3]:
+                ((kind, value),) = tangential.items()
+                out[f"{kind} = {value:g}, {n} el."] = (bf.case(n, tangential, False), bf.case(n, tangential, True))
         return out
     import bench_viscoelastic as bv
 
@@ -61,13 +63,13 @@ def _pairs(suite: str) -> dict[str, tuple[dict, dict]]:
     return out
 
 
-def worker(suite: str, repeat: int) -> None:
+def worker(suite: str, repeat: int, elements: list[int]) -> None:
     """Measure a suite in this process (the tree on ``sys.path`` first); print JSON."""
     import rolling_cli
     from rolling_cli.influence.build import clear_memo
 
     results = {}
-    for name, pair in _pairs(suite).items():
+    for name, pair in _pairs(suite, elements).items():
         cases = [rolling_cli.load_case(copy.deepcopy(data)) for data in pair]
         for case in cases:
             rolling_cli.solve(case)  # warm-up (imports, process caches)
@@ -94,11 +96,12 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--suite", default="friction,visco")
+    parser.add_argument("--elements", default="200", help="friction grids (the first: all controls)")
     parser.add_argument("--tree", action="append", default=[], help="NAME=DIR: a source tree to compare with")
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
-        worker(args.worker, args.repeat)
+        worker(args.worker, args.repeat, [int(n) for n in args.elements.split(",")])
         return
     trees = {**dict(item.split("=", 1) for item in args.tree), "current": str(ROOT)}
     env = {**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
@@ -107,6 +110,7 @@ def main() -> None:
         for _ in range(args.rounds):
             for tree, path in trees.items():
                 command = [sys.executable, str(Path(__file__)), "--worker", suite, "--repeat", str(args.repeat)]
+                command += ["--elements", args.elements]
                 out = subprocess.run(
                     command, env={**env, "PYTHONPATH": path}, capture_output=True, text=True, check=True
                 ).stdout
