@@ -297,16 +297,12 @@ class MeshPath:
         ):
             # a falling friction law's sequence (decoupled): Hertz's pressure is the normal problem's own
             # start (the coarse one, interpolated, took 4 Newton iterations to settle on 200 elements);
-            # the coarse traction and creepage carry the law's stick zone. Not for a viscoelastic body,
-            # whose pressure Hertz's is not: the coarse one, interpolated, is the better start there
-            # (rigid roller on an SLS flat, 800 elements: 7 Newton iterations of the normal problem
-            # on the case grid from the fitted Hertz pressure, 9 from Hertz's with E_r, 3 from the coarse one, cold)
+            # the coarse traction and creepage carry the law's stick zone
             guess = initial_state(level.case, level.plan, self._system(level))
             guess.p_t, guess.creep = moved.p_t, moved.creep
             return guess, True, False
-        # a viscoelastic body's coarse pressure, moved: its node states read from the pressure (cold), as
-        # a refined level's (_refined_start): the gap of a pressure not in equilibrium on the new grid
-        # puts nodes beyond the edges in contact (800 elements: 442 contact nodes against 434 solved)
+        # a viscoelastic body: the coarse pressure, its node states read from it (cold, as _refined_start;
+        # SLS roller, 800 elements: 3 normal iterations on the case grid, 9 from Hertz's with E_r, 5 warm)
         return moved, _viscoelastic(level.case), False
 
     def _warm_start(self, level: Level) -> tuple[State, bool, bool] | None:
