@@ -66,8 +66,8 @@ def _gathered(matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
             return values
     values = matrix.block(rows, cols)
     values.setflags(write=False)
-    _kept_blocks.insert(0, (weakref.ref(matrix), key_rows, key_cols, values))
-    del _kept_blocks[KEPT_BLOCKS:]
+    live = [entry for entry in _kept_blocks if entry[0]() is not None]  # none of a system that is gone
+    _kept_blocks[:] = [(weakref.ref(matrix), key_rows, key_cols, values), *live][:KEPT_BLOCKS]
     return values
 
 
