@@ -84,6 +84,7 @@ HISTORY = {
     "edge": ("the contact reaches an end of the potential zone", None),
     "level": ("mesh level of the row", None),
     "linear_solver": ("linear solver of the step", None),
+    "reuse_iterations": ("GMRES iterations of a step solved on an earlier step's LU (0: a fresh LU)", "1"),
     "strategy": ("solver strategy of the row", None),
     "tolerance": ("residual tolerance applied at the row", "1"),
 }

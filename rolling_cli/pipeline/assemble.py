@@ -229,11 +229,11 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
     if solution is not None and solution.problem.tangential:
         from ..solver import formulation, reduced
 
-        held = solution.problem.held(force=None)
+        problem = solution.problem  # with a prescribed force, its bordered matrix gives the held slope
         state = solution.state
         try:
-            ev = formulation.evaluate(held, state, formulation.traction_scales(held, state))
-            slope = reduced.creep_sensitivity(held, state, ev)
+            ev = formulation.evaluate(problem, state, formulation.traction_scales(problem, state))
+            slope = reduced.creep_sensitivity(problem, state, ev)
         except (np.linalg.LinAlgError, ValueError):  # a singular system: no slope recorded
             return out
         out["creep_slope"] = float(slope)

@@ -19,7 +19,7 @@ from ..model import materials
 from ..model.grid import ContactGrid
 from ..references import carter, hertz, thin_layer
 from ..solver.formulation import State
-from ..solver.initial import carter_ratio_for_creep, cold_start
+from ..solver.initial import carter_ratio_for_creep, cold_start, effective_hertz
 from ..solver.strategies import Controls, Solution
 from ..solver.system import ContactSystem, abs_max, build_system
 from . import effects as effects_mod
@@ -260,11 +260,17 @@ def _initial_ratio(case: Case, the_plan: Plan) -> float:
 
 
 def initial_state(case: Case, the_plan: Plan, system: ContactSystem) -> State:
-    """Cold start: Hertz pressure and Carter traction and creepage (see :mod:`rolling_cli.solver.initial`)."""
+    """Cold start: Hertz pressure and Carter traction and creepage (see :mod:`rolling_cli.solver.initial`);
+    with a viscoelastic body on half-spaces under a load, the Hertz pressure whose displacement
+    fits the rigid profile (:func:`~rolling_cli.solver.initial.effective_hertz`: narrower and
+    shifted towards the leading edge)."""
     kind, value = case.tangential.control()
     ratio = float(np.clip(_initial_ratio(case, the_plan), -1.0, 1.0))
     creep = value if kind == "creep" else None
-    return cold_start(system, the_plan.half_width, the_plan.load, case.friction.mu, ratio, creep, case.normal.overlap)
+    half_width, centre = the_plan.half_width, 0.0
+    if _viscoelastic(case) and hertz_applies(case):
+        half_width, centre = effective_hertz(system, half_width, the_plan.load)
+    return cold_start(system, half_width, the_plan.load, case.friction.mu, ratio, creep, case.normal.overlap, centre)
 
 
 @dataclass

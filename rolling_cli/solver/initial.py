@@ -31,9 +31,10 @@ def cold_start(
     q_over_mu_p: float,
     creep: float | None,
     overlap: float | None,
+    centre: float = 0.0,
 ) -> State:
-    """Initial state from Hertz (half-width ``half_width`` [length], load P [force/length])
-    and Carter (ratio ``q_over_mu_p``, creepage ``creep``).
+    """Initial state from Hertz (half-width ``half_width`` [length], load P [force/length],
+    centred on x = ``centre`` [length]) and Carter (ratio ``q_over_mu_p``, creepage ``creep``).
 
     The pressure is scaled so that the discrete load is exactly P. When the
     overlap is unknown (``overlap=None``), its guess makes the mean gap over the
@@ -41,7 +42,8 @@ def cold_start(
     makes the mean slip over Carter's adhesion zone zero, which also captures
     the free-rolling creepage of dissimilar materials.
     """
-    x, w = system.x, system.weights
+    w = system.weights
+    x = system.x - centre
     p0 = hertz.peak_pressure(load, half_width)
     p_n = -hertz.pressure(x, half_width, p0)
     total = -(w @ p_n)
@@ -59,7 +61,54 @@ def cold_start(
         if mu > 0.0:
             strain = system.slip(p_n, p_t, 0.0)
             c = carter.stick_half_width(q, half_width)
-            centre = carter.stick_centre(q, half_width, system.direction)
-            stick = inside & (np.abs(x - centre) < c) & (system.creep_vector > 0.0)
+            middle = carter.stick_centre(q, half_width, system.direction)
+            stick = inside & (np.abs(x - middle) < c) & (system.creep_vector > 0.0)
             creep = float(-np.mean(strain[stick])) if stick.any() else 0.0
     return State(p_n, p_t, float(overlap), float(creep))
+
+
+#: Fixed-point steps of :func:`effective_hertz` (measured on the SLS roller: a and the centre settle to
+#: 1e-3 a in 4; with 3, one speed of five took a Newton iteration more: the contact set is node-sharp).
+EFFECTIVE_STEPS = 4
+
+
+def effective_hertz(system: ContactSystem, half_width: float, load: float) -> tuple[float, float]:
+    """The half-width [length] and centre [length] of the Hertz pressure (load P [force/length])
+    whose normal displacement under ``system``'s compliance best fits the rigid profile: no
+    tilt, and the curvature of the gap's rigid part gap0 (-1/R*).
+
+    For elastic half-planes this is Hertz's own a (curvature ratio 1, no tilt). A viscoelastic
+    body is stiffer than its relaxed modulus by an amount that depends on the time a point spends
+    in the contact, and lags: the displacement of a centred Hertz pressure, fitted over the
+    contact by a parabola c0 + c1 x + c2 x^2, has the curvature of an elastic body with the
+    compliance k J_r (k = c2 / the rigid curvature) and its lowest point at x0 = -c1 / (2 c2).
+    So a -> a sqrt(k) (a^2 grows with the compliance) and the centre moves by -x0, and again
+    from there (:data:`EFFECTIVE_STEPS` times). A cold start from this Hertz pressure puts the
+    Newton iteration within a node or two of the contact set (rigid roller on an SLS flat, 200
+    elements, V tau_c / a = 0.9: contact half-width 0.815 a_r against 0.81 solved; 8 Newton
+    iterations against 11 from Hertz with E_r). Returns the input (a, 0) where a fit is not
+    possible (fewer than 5 nodes in the contact) or is not a stiffening within a factor 10.
+    """
+    x, w = system.x, system.weights
+    a, centre = half_width, 0.0
+    zero = np.zeros_like(x)
+    for _ in range(EFFECTIVE_STEPS):
+        inside = np.abs(x - centre) < a
+        if inside.sum() < 5:
+            break
+        p_n = -hertz.pressure(x - centre, a, hertz.peak_pressure(load, a))
+        p_n *= load / -(w @ p_n)
+        shape = system.gap(p_n, zero, 0.0) - system.gap0  # the displacement, up to a constant
+        t = (x[inside] - centre) / a  # centred and scaled to [-1, 1]: well-conditioned normal equations
+        vandermonde = np.stack([t * t, t, np.ones_like(t)], axis=1)
+        values = np.stack([shape[inside], system.gap0[inside]], axis=1)
+        fit = np.linalg.solve(vandermonde.T @ vandermonde, vandermonde.T @ values)  # least squares, 3 x 3
+        (c2, rigid), (c1, _) = fit[0] / a**2, fit[1] / a
+        k = -c2 / rigid if rigid != 0.0 else np.nan
+        if not 0.1 < k < 10.0:
+            break
+        # the displacement's lowest point is at centre - c1 / (2 c2): move the pressure by as much the other way
+        a, centre = a * float(np.sqrt(k)), float(c1 / (2.0 * c2))
+    if not abs(centre) < a:
+        return half_width, 0.0
+    return a, centre

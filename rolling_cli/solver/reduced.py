@@ -256,7 +256,7 @@ def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | 
     if problem.friction is not None and problem.tangential:
         from . import velocity
 
-        return velocity.newton_point(problem, state, ev)
+        return velocity.newton_point(problem, state, ev, record)
     reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
     dz = solve_reduced(reduced, reduced.rhs, ev.relative_residual, record)
     return state_from_solution(problem, state, reduced, dz)
@@ -276,12 +276,12 @@ def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[f
     """dQ/dxi [force/length] and dp_n/dxi [stress] (zero where p_n is held) at fixed node states
     (see :func:`creep_sensitivity`): under overlap control the load, and with it a target Q
     given as Q/P or Q/(mu P), moves with the creepage through the coupling."""
-    if problem.creep_unknown or not problem.tangential:
-        raise ValueError("the creep sensitivity needs a tangential problem with the creepage held")
-    if problem.friction is not None:
+    if problem.friction is not None and problem.tangential:  # the creepage held or, there, unknown
         from . import velocity
 
         return velocity.creep_derivatives(problem, state, ev)
+    if problem.creep_unknown or not problem.tangential:
+        raise ValueError("the creep sensitivity needs a tangential problem with the creepage held")
     sets = node_sets(problem, state, ev)
     reduced = reduced_system(problem, state, sets, ev)
     if reduced.creep_column is None:
