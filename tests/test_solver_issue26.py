@@ -21,7 +21,7 @@ from helpers import assert_contact_laws, assert_force_balance, case_dict, solve
 from rolling_cli import pipeline
 from rolling_cli.case import load_case
 from rolling_cli.model import materials
-from rolling_cli.solver import formulation, reduced, strategies
+from rolling_cli.solver import creep_root, formulation, reduced, strategies
 from rolling_cli.solver.budget import Budget
 from rolling_cli.solver.formulation import State
 
@@ -87,7 +87,7 @@ SMALLEST_FRICTION = {
 def test_smallest_friction_near_full_slip_within_the_default_budget():
     """mu = 1.1e-4, beta_Dundurs = -0.29: only the creepage root solves it (the coupled Newton
     stagnates); it took 110 iterations with the bisection near the full-slip edge, 41 with the edge,
-    the jump to the onset of full slip and the regula falsi (strategies._creep_root)."""
+    the jump to the onset of full slip and the regula falsi (creep_root.solve)."""
     r = solve(case_dict(**SMALLEST_FRICTION))
     assert r.converged and r.iterations_total <= 100  # the default solver.max_iterations
     assert_contact_laws(r, r.tolerance_applied)
@@ -188,8 +188,8 @@ def test_full_slip_edge_is_carters_full_slip_creepage_and_bounds_the_plateau():
     slip there moves like mu x / R*)."""
     r, system, state, ev = _creep_solution(-2.0 * 0.1 * 1.0 / 50.0)
     assert r.q_over_mu_p == pytest.approx(1.0, abs=1e-9) and not (r.state == 1).any()
-    edge = strategies._full_slip_edge(system, state, ev, upward=True)  # Q = mu P > Q_target: xi rises
-    assert strategies._full_slip_edge(system, state, ev, upward=False) is None  # full slip down to -inf
+    edge = creep_root.full_slip_edge(system, state, ev, upward=True)  # Q = mu P > Q_target: xi rises
+    assert creep_root.full_slip_edge(system, state, ev, upward=False) is None  # full slip down to -inf
     carter_edge = -r.mu * r.hertz_a / 50.0
     assert abs(edge / carter_edge - 1.0) <= 1.01 * r.node_spacing / r.hertz_a
     # just beyond the edge: the same full slip; just inside it: adhesion appears, Q falls below mu P
@@ -201,5 +201,5 @@ def test_full_slip_edge_is_carters_full_slip_creepage_and_bounds_the_plateau():
     # tractions being decoupled) is the edge found above
     partial, system, state, ev = _creep_solution(0.5 * carter_edge)
     assert (partial.state == 1).any()
-    assert strategies._full_slip_edge(system, state, ev, upward=True) is None
-    assert strategies._full_slip_onset(system, state, r.mu, 1.0) == pytest.approx(edge, rel=1e-8)
+    assert creep_root.full_slip_edge(system, state, ev, upward=True) is None
+    assert creep_root.full_slip_onset(system, state, r.mu, 1.0) == pytest.approx(edge, rel=1e-8)

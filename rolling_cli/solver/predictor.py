@@ -174,3 +174,14 @@ def transfer(state: State, x_from: np.ndarray, x_to: np.ndarray, mu: float) -> S
     p_t = np.interp(x_to, x_from, state.p_t, left=0.0, right=0.0)
     p_t = np.clip(p_t, mu * p_n, -mu * p_n)
     return State(p_n, p_t, float(state.overlap), float(state.creep))
+
+
+def over_solutions(x: np.ndarray, mu: float):
+    """The boundary-secant predictor over path points [(s, solution)] (objects with ``state`` and
+    ``zones()``; a copy of the state from one point): ``predict(points, s) -> State`` for
+    :func:`rolling_cli.solver.continuation.follow`. ``x`` the nodes [length], ``mu`` [-]."""
+
+    def predict(points, s):
+        return secant(x, [(sk, sol.state, sol.zones()) for sk, sol in points[-2:]], s, mu)
+
+    return predict

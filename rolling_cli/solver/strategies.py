@@ -24,11 +24,9 @@ Each takes its Newton globalisation as a value (:class:`~rolling_cli.solver.newt
 or :class:`~rolling_cli.solver.newton.Armijo`); :func:`default` picks the
 combination for a task.
 
-Over 500 lines for a reason: the strategies call each other (:func:`direct` ->
-the tangential stage -> the creepage root -> creepage-controlled inner solves;
-the paths and :func:`default` compose them by name), so splitting them would
-make modules import each other in a circle; what they are given and return
-(:class:`Task`, :class:`Solution`, :class:`StrategyFailed`) lives in
+One Newton run on one stage problem is :func:`~rolling_cli.solver.stage.run_newton`;
+the creepage root's iteration is :mod:`rolling_cli.solver.creep_root`. What strategies are
+given and return (:class:`Task`, :class:`Solution`, :class:`StrategyFailed`) lives in
 :mod:`rolling_cli.solver.task`.
 """
 
@@ -39,79 +37,14 @@ import dataclasses
 import numpy as np
 
 from ..model.friction import SlipFriction
-from . import continuation, formulation, predictor, reduced
-from .budget import Budget, BudgetExhausted
-from .formulation import Evaluation, Problem, State
-from .newton import Armijo, NewtonFailure, NonlinearSystem, Watchdog, newton
+from . import continuation, formulation, predictor
+from .budget import Budget
+from .creep_root import solve as creep_root_solve
+from .formulation import State
+from .newton import Armijo, Watchdog
+from .stage import clip_to_friction, run_newton
 from .system import ContactSystem
 from .task import TANGENTIAL_KINDS, Controls, Solution, Strategy, StrategyFailed, Task  # noqa: F401 (the strategies' names)
-
-# --- one Newton run on one problem ---------------------------------------------------------------
-
-
-def _nonlinear(problem: Problem, scales: formulation.Scales) -> NonlinearSystem:
-    def evaluate(x):
-        return formulation.evaluate(problem, State.unpack(x), scales)
-
-    linear: dict = {}
-
-    def step(x, ev):
-        linear.clear()
-        return reduced.newton_point(problem, State.unpack(x), ev, linear).pack()
-
-    def describe(x, ev):
-        return {
-            "creep": float(x[-1]),
-            "overlap": float(x[-2]),
-            "contact": int(ev.contact.sum()),
-            "stick": int(ev.stick.sum()),
-            "edge": bool(ev.contact[0] or ev.contact[-1]),
-            "linear_solver": "dense LU"
-            if problem.friction is not None and problem.tangential
-            else problem.system.linear_solver,
-        }
-
-    return NonlinearSystem(evaluate, step, describe, lambda: dict(linear))
-
-
-def run_newton(
-    problem: Problem,
-    start: State,
-    tolerance: float,
-    budget: Budget,
-    strategy: str,
-    stage: str,
-    cold: bool = False,
-    globalisation=None,
-) -> Solution:
-    """Newton on one stage problem to the tolerance, or to :data:`~rolling_cli.solver.formulation.FLOOR_FACTOR`
-    times the round-off floor where that is larger (the history's "tolerance" column says which);
-    raises :class:`StrategyFailed` with the best state."""
-    scales = formulation.traction_scales(problem, start)
-    system = _nonlinear(problem, scales)
-    first = formulation.evaluate(problem, start, scales, cold=True) if cold else None
-    applied = max(tolerance, formulation.FLOOR_FACTOR * formulation.roundoff_floor(problem, scales))
-    label = {"strategy": strategy, "stage": stage, "tolerance": applied}
-    try:
-        x, ev = newton(
-            system,
-            start.pack(),
-            tolerance=applied,
-            budget=budget,
-            globalisation=globalisation or Watchdog(),
-            first=first,
-            label=label,
-        )
-    except NewtonFailure as err:
-        raise StrategyFailed(strategy, stage, err.reason, State.unpack(err.best_x), err.best.residual) from None
-    return Solution(State.unpack(x), ev, problem)
-
-
-def _clip_to_friction(state: State, p_t: np.ndarray, mu: float) -> State:
-    out = state.copy()
-    out.p_t = np.clip(p_t, mu * state.p_n, -mu * state.p_n)
-    return out
-
 
 # --- strategies ------------------------------------------------------------------------------------
 
@@ -129,7 +62,7 @@ def direct(
     normal = run_newton(task.problem("normal"), state, tol, budget, name, "normal", cold, globalisation)
     if task.formulation == "normal" or task.controls.tangential[0] == "none":
         return normal
-    state = _clip_to_friction(normal.state, held_p_t, task.mu)
+    state = clip_to_friction(normal.state, held_p_t, task.mu)
     return _tangential(task, state, budget, name, globalisation)
 
 
@@ -143,7 +76,7 @@ def _tangential(task: Task, state: State, budget: Budget, strategy: str, globali
         if problem.force is None or budget.exhausted:
             raise
         best = err.best if err.best is not None else state
-        return _creep_root(problem, task, best, budget, globalisation)
+        return creep_root_solve(problem, task, best, budget, globalisation)
 
 
 def settled(
@@ -156,7 +89,7 @@ def settled(
     normal = run_newton(
         task.problem("normal"), state, task.tolerance, budget, name, "normal (p_t = 0)", cold, globalisation
     )
-    state = _clip_to_friction(normal.state, guess, task.mu)
+    state = clip_to_friction(normal.state, guess, task.mu)
     return run_newton(task.problem("coupled"), state, task.tolerance, budget, name, "coupled", False, globalisation)
 
 
@@ -251,7 +184,7 @@ def _follow(name: str, symbol: str, targets, solve_at, first: Solution, task: Ta
         continuation.follow(
             targets,
             solve_at,
-            _predict(task.system.x, task.mu),
+            predictor.over_solutions(task.system.x, task.mu),
             points,
             failure=StrategyFailed,
             control=continuation.StepControl(),
@@ -261,15 +194,6 @@ def _follow(name: str, symbol: str, targets, solve_at, first: Solution, task: Ta
         best = err.best.state if err.best is not None else None
         raise StrategyFailed(name, f"{symbol} = {err.parameter:.4g}", err.reason, best, err.residual) from None
     return points[-1][1]
-
-
-def _predict(x: np.ndarray, mu: float):
-    """The boundary-secant predictor over points [(s, Solution)] (a copy from one point)."""
-
-    def predict(points, s):
-        return predictor.secant(x, [(sk, sol.state, sol.zones()) for sk, sol in points[-2:]], s, mu)
-
-    return predict
 
 
 def creep_root(task: Task, start: State, budget: Budget, cold: bool = False, globalisation=None) -> Solution:
@@ -284,206 +208,8 @@ def creep_root(task: Task, start: State, budget: Budget, cold: bool = False, glo
         normal = run_newton(
             task.problem("normal"), state, task.tolerance, budget, "creep root", "normal", cold, globalisation
         )
-        state = _clip_to_friction(normal.state, start.p_t, task.mu)
-    return _creep_root(problem, task, state, budget, globalisation)
-
-
-#: The creep root does not look beyond this creepage (100 %: the bodies no longer roll on each other).
-MAX_CREEP = 1.0
-
-
-def _creep_root(problem: Problem, task: Task, state: State, budget: Budget, globalisation=None) -> Solution:
-    """Safeguarded Newton on f(xi) = (Q(xi) - Q_target) / (L s_t), Q(xi) from creep-controlled solves.
-
-    Under overlap control a target given as Q/P or Q/(mu P) moves with the load P(xi), and
-    the slope is that of Q - Q_target (:func:`~rolling_cli.solver.reduced.creep_derivatives`):
-    with dQ/dxi alone the Newton steps left the bracket and the root bisected (a thin
-    incompressible layer near full slip: 148 iterations against 84, issue 26).
-
-    Q is continuous and non-increasing in xi. A bracket [lo, hi] with f(lo) > 0 >
-    f(hi) is kept once found; a Newton step (dQ/dxi from the reduced Jacobian of
-    the converged inner solve) that leaves it, or a derivative that does not
-    decrease, is replaced by regula falsi between the ends (Illinois: an end kept
-    k >= 2 times in a row counts 2^(1-k)), and by bisection when |f| did not fall. Before a
-    bracket exists, the first step without a slope goes to where the target's full slip
-    starts (:func:`_full_slip_onset`) when that lies beyond the root, the others expand
-    geometrically in the direction of the root.
-    A solution in full slip (one way or, with a coupling, both) holds unchanged up to
-    the creepage where the first node's slip reaches zero (:func:`_full_slip_edge`), so the bracket end
-    moves there at no cost. Near full slip the root lies just short of that edge,
-    where Q - Q_target falls steeply: Newton steps from the other side overshoot it
-    and bisection took a dozen solves more (issue 26: 40 cases of the small-friction
-    coupled family took 2638 iterations, 8 of them over 100; now 1233, at most 66:
-    benchmarks/RESULTS.md). Stops when the force
-    residual is below the tolerance (the inner solve converged too); raises when the
-    bracket closes to round-off without that (Q jumps) or the budget is spent.
-
-    Over 80 lines for a reason: the bracket, the Newton step and the bisection update one
-    loop state (bracket ends, their residuals, the last converged state), which helpers would
-    have to pass back and forth whole.
-    """
-    held = problem.held(force=None)
-    system = problem.system
-    lz = system.zone_length
-    name = "creep root"
-    lo = hi = None
-    f_lo = f_hi = 0.0
-    kept = 0  # +1 / -1: the low / high end kept by the last regula falsi step, once or more (Illinois)
-    current = state.copy()
-    step = None
-    jumped = False
-    fallback = None  # after a jump: the state and expansion step to retry if its solve fails
-    last_f = None
-    solved: list[tuple[float, Solution]] = []
-    predict = _predict(system.x, task.mu)
-    for _ in range(200):
-        xi = current.creep
-        if solved and fallback is None:  # start from the boundary secant of the two solved creepages nearest to xi
-            near = sorted(solved, key=lambda point: abs(point[0] - xi))[:2]
-            near.sort(key=lambda point: abs(point[0] - xi), reverse=True)
-            if len(near) == 2 and near[0][0] == near[1][0]:
-                near = near[1:]
-            current = predict(near, xi)
-            current.creep = xi
-        try:
-            inner = run_newton(
-                held, current, task.tolerance, budget, name, f"creepage held, xi = {xi:.6e}", False, globalisation
-            )
-        except StrategyFailed:
-            if fallback is None or budget.exhausted:
-                raise
-            current, fallback = fallback, None  # the jump failed: expand from the last solution instead
-            continue
-        fallback = None
-        solved.append((xi, inner))
-        current = inner.state
-        target, _ = problem.force_target(current.p_n)
-        q = float(system.weights @ current.p_t)
-        scale = formulation.traction_scales(problem, current).tangential
-        f = (q - target) / (lz * scale)
-        budget.history[-1]["force_residual"] = f
-        xi = current.creep
-        if abs(f) <= budget.history[-1]["tolerance"]:
-            ev = formulation.evaluate(problem, current, formulation.traction_scales(problem, current))
-            return Solution(current, ev, problem)
-        edge = _full_slip_edge(system, current, inner.evaluation, upward=f > 0.0)
-        if edge is not None:  # the same solution holds from xi to the edge: go there
-            moved = current.copy()
-            moved.creep = xi = edge
-            solved.append((edge, dataclasses.replace(inner, state=moved)))
-        if f > 0.0:
-            if lo is None or xi > lo:
-                lo, f_lo = xi, f
-                kept = min(kept, 0) - 1 if hi is not None else 0
-        elif hi is None or xi < hi:
-            hi, f_hi = xi, f
-            kept = max(kept, 0) + 1 if lo is not None else 0
-        if edge is not None:  # Q does not move with xi here
-            d_q = 0.0
-        else:
-            try:
-                budget.take()
-                d_q, dp_n = reduced.creep_derivatives(held, current, inner.evaluation)
-                _, d_target = problem.force_target(current.p_n)
-                if d_target is not None:  # overlap control: Q_target = (Q/P) P moves with P(xi)
-                    d_q -= float(d_target @ dp_n)
-            except BudgetExhausted:
-                raise StrategyFailed(name, "budget", "budget", current, abs(f)) from None
-            except np.linalg.LinAlgError:  # a singular sensitivity system: bracketing alone
-                d_q = 0.0
-        derivative = d_q / (lz * scale)
-        proposal = xi - f / derivative if derivative < 0.0 else None
-        if lo is not None and hi is not None:
-            if hi - lo <= 4.0 * np.finfo(float).eps * max(abs(lo), abs(hi)):
-                raise StrategyFailed(
-                    name,
-                    f"xi = {xi:.6e}",
-                    "Q(xi) jumps across the target: the force cannot be matched on this mesh (refine it)",
-                    current,
-                    abs(f),
-                )
-            if proposal is None or not lo < proposal < hi:
-                # regula falsi between the ends, an end kept k >= 2 times in a row weighed 2^(1-k) (Illinois)
-                weight_lo = 0.5 ** max(kept - 1, 0)
-                weight_hi = 0.5 ** max(-kept - 1, 0)
-                proposal = lo + (hi - lo) * weight_lo * f_lo / (weight_lo * f_lo - weight_hi * f_hi)
-            if proposal is None or not lo < proposal < hi:
-                proposal = 0.5 * (lo + hi)
-            if last_f is not None and abs(f) >= abs(last_f) and f * last_f > 0.0:
-                proposal = 0.5 * (lo + hi)  # no progress: bisect
-        elif proposal is None:
-            target, _ = problem.force_target(current.p_n)
-            if not jumped and (f > 0.0) == (target < 0.0):  # the target's full slip lies beyond the root
-                jumped = True
-                sigma = 1.0 if target > 0.0 else -1.0
-                proposal = _full_slip_onset(system, current, task.mu, sigma)
-                if proposal is not None and (proposal - xi) * f > 0.0:
-                    elastic = np.abs(system.slip(current.p_n, current.p_t, 0.0)[current.p_n < 0.0])
-                    step = 1e-3 * max(abs(xi), float(elastic.max()) if elastic.size else 0.0, 1e-12)
-                    fallback = current.copy()
-                    fallback.creep = xi + step if f > 0.0 else xi - step
-                    jump = current.copy()  # started from that full slip, the solution if the estimate holds
-                    jump.p_t = np.where(current.p_n < 0.0, -sigma * task.mu * current.p_n, 0.0)
-                    jump.creep = proposal
-                    current = jump
-                    last_f = f
-                    continue
-                proposal = None
-            if proposal is None:
-                elastic = np.abs(system.slip(current.p_n, current.p_t, 0.0)[current.p_n < 0.0])
-                scale_xi = max(abs(xi), float(elastic.max()) if elastic.size else 0.0, 1e-12)
-                step = step * 4.0 if step else 1e-3 * scale_xi
-                proposal = xi + step if f > 0.0 else xi - step
-        if abs(proposal) > MAX_CREEP:
-            raise StrategyFailed(
-                name,
-                f"xi = {xi:.6e}",
-                f"no creepage up to |xi| = {MAX_CREEP:g} carries the force (full slip below the target)",
-                current,
-                abs(f),
-            )
-        last_f = f
-        current = current.copy()
-        current.creep = float(proposal)
-    raise StrategyFailed(name, "root", "no convergence in 200 creepage updates", current, abs(last_f or np.inf))
-
-
-def _full_slip_onset(system: ContactSystem, state: State, mu: float, sigma: float) -> float | None:
-    """The creepage [-] from which every contact node slips one way, p_t = sigma mu |p_n|, estimated
-    with ``state``'s pressure: there the slip s_i = xi + e_i (e the elastic slip of the full-slip
-    tractions) opposes the traction at every node, sigma s_i <= 0, from xi = -sigma max(sigma e)."""
-    contact = state.p_n < 0.0
-    contact[system.gauge] = False
-    if not contact.any():
-        return None
-    p_t = np.where(state.p_n < 0.0, -sigma * mu * state.p_n, 0.0)
-    elastic = system.slip(state.p_n, p_t, 0.0)[contact]
-    return float(-sigma * np.max(sigma * elastic))
-
-
-def _full_slip_edge(system: ContactSystem, state: State, ev: Evaluation, upward: bool) -> float | None:
-    """For a state in full slip (no adhesion node), the creepage up to which it stays the solution
-    [-], upward (larger xi) or downward; None when not in full slip or when it stays the solution
-    without end that way.
-
-    In full slip p_t = sigma_i mu |p_n| at every contact node whatever the creepage (sigma_i = +-1,
-    of both signs with a coupling), and the slip s = xi + (B p)(x) moves with xi alone (the creep
-    vector is 1 off the gauge row); it opposes the traction, sigma_i s_i <= 0, until the creepage
-    where the first node's slip reaches 0: upward xi + min(-s_i) over the nodes of sigma_i = +1,
-    downward xi + max(-s_i) over those of sigma_i = -1. In between the force is the same.
-    """
-    contact = state.p_n < 0.0
-    contact[system.gauge] = False
-    if not contact.any() or (ev.stick & contact).any():
-        return None
-    signs = np.sign(state.p_t[contact])
-    if not np.all(signs != 0.0):
-        return None
-    slip = system.slip(state.p_n, state.p_t, state.creep)[contact]
-    ends = -slip[signs > 0.0] if upward else -slip[signs < 0.0]
-    if not ends.size:
-        return None
-    return float(state.creep + (ends.min() if upward else ends.max()))
+        state = clip_to_friction(normal.state, start.p_t, task.mu)
+    return creep_root_solve(problem, task, state, budget, globalisation)
 
 
 def first_success(*strategies: Strategy, name: str = "first success") -> Strategy:
