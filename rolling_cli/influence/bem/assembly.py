@@ -104,7 +104,7 @@ def geometry(mesh: BoundaryMesh) -> Geometry:
 
 
 def element_blocks(
-    mesh: BoundaryMesh, shear: float, poisson: float, points: np.ndarray | None = None
+    mesh: BoundaryMesh, shear: float, poisson: float, points: np.ndarray | None = None, ring=None
 ) -> Iterator[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """Yield ``(elements, h, g)``: element numbers (e,) and their integrals, each (e, 3, 2, P, 2).
 
@@ -113,15 +113,22 @@ def element_blocks(
     likewise g with U_kl [length/stress times length]: a node's column (j, l)
     of H is contiguous. ``shear`` G [stress], ``poisson`` nu. h and g are views
     of two buffers reused by the next block: use them before asking for it.
+    ``ring`` (a :class:`.ring.Ring` of the mesh, or None): its nodes' integrals over its
+    elements by rotation of two computed rows (:mod:`.ring`).
     """
     geo = geometry(mesh)
     points = np.arange(mesh.size) if points is None else np.asarray(points)
+    template = None
+    if ring is not None:  # the first and the last ring element against every ring node
+        ring_points = ring.nodes.ravel()
+        template = np.zeros((2, 2, 3, 2, ring_points.size, 2))
+        _block(mesh, geo, ring_points, ring.elements[[0, -1]], shear, poisson, template[0], template[1])
     step = max(1, BLOCK // (24 * points.size))  # 12 doubles of H and 12 of G per node-element pair
     buffers = np.empty((2, min(step, mesh.elements), 3, 2, points.size, 2))
     for start in range(0, mesh.elements, step):
         elements = np.arange(start, min(mesh.elements, start + step))
         h, g = buffers[0, : elements.size], buffers[1, : elements.size]
-        _block(mesh, geo, points, elements, shear, poisson, h, g)
+        _block(mesh, geo, points, elements, shear, poisson, h, g, ring, template)
         yield elements, h, g
 
 
@@ -207,9 +214,12 @@ def classify(mesh: BoundaryMesh, geo: Geometry, points: np.ndarray, elements: np
     return collinear, (i_near, q_near, t[near], dist[near]), (i_reg, q_reg, dist[regular])
 
 
-def _block(mesh, geo, points, elements, shear, poisson, h, g) -> None:
-    """The integrals of ``elements`` into h and g (:func:`element_blocks`); every pair is of exactly one kind."""
+def _block(mesh, geo, points, elements, shear, poisson, h, g, ring=None, template=None) -> None:
+    """The integrals of ``elements`` into h and g (:func:`element_blocks`); every pair is of exactly one
+    kind, or is a ``ring`` pair, rotated from the ``template`` rows (h and g stacked)."""
     collinear_runs, near, regular = classify(mesh, geo, points, elements)
+    if ring is not None:
+        near, regular = _ring_pairs(ring, template, points, elements, near, regular, h, g)
     for qs, nodes, c, own in collinear_runs:
         e = elements[qs]
         if nodes.ndim == 2:  # elements alone on their lines, against their own nodes: scatter the valid pairs
@@ -246,6 +256,21 @@ def _block(mesh, geo, points, elements, shear, poisson, h, g) -> None:
     i, q, dist = regular
     values = regular_integrals(mesh, geo, points[i], elements[q], shear, poisson, dist)
     _put(h, g, q, i, [v.swapaxes(-1, -2) for v in values])
+
+
+def _ring_pairs(ring, template, points, elements, near, regular, h, g):
+    """Put the ring's pairs, rotated from the template (:mod:`.ring`), into h and g; return the near
+    and regular pairs left to integrate (the ring's elements are curved: never collinear pairs)."""
+    from . import ring as rings
+
+    p, q = rings.fill(ring, template, points, elements, h, g)
+    if not (p.size and q.size):
+        return near, regular
+    in_ring = np.zeros((points.size, elements.size), dtype=bool)
+    in_ring[np.ix_(p, q)] = True
+    keep_near = ~in_ring[near[0], near[1]]
+    keep_regular = ~in_ring[regular[0], regular[1]]
+    return tuple(v[keep_near] for v in near), tuple(v[keep_regular] for v in regular)
 
 
 def _span(index: np.ndarray):

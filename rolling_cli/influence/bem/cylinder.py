@@ -45,6 +45,7 @@ import numpy as np
 
 from ...model.grid import ContactGrid
 from .. import Compliance
+from . import ring as rings
 from .condense import contact_blocks, factorise, solve, solve_small
 from .elements import GEOMETRY_COEFFICIENTS, evaluate, functional_nodes
 from .mesh import BoundaryMesh, _Builder, graded_edges
@@ -187,17 +188,25 @@ def contact_angles(mesh: BoundaryMesh, radius: float) -> np.ndarray:
 
 
 def xy_compliance(
-    mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, mirror: bool = True
+    mesh: BoundaryMesh,
+    grid: ContactGrid,
+    young: float,
+    poisson: float,
+    mirror: bool = True,
+    radius: float | None = None,
 ) -> np.ndarray:
     """C (n_c, 2, n_c, 2) [length/stress]: C[i, k, j, l] = du_k(i) / dt_l(j), the x and y components of
-    the contact displacement at node i per unit nodal traction at node j, for the bonded bore."""
+    the contact displacement at node i per unit nodal traction at node j, for the bonded bore.
+    With the outer ``radius`` [length] (of :func:`annulus_mesh`'s circle centred at (0, -R)), a
+    uniform contact grid's elements are one ring (:mod:`.ring`): their mutual integrals by rotation."""
     nc = grid.size
     if mesh.contact.size != nc:
         raise ValueError("the BEM contact nodes do not match the contact grid")
     far = np.zeros((2 * mesh.size, 2))  # no far field: the shaft is the reference
     shear = young / (2.0 * (1.0 + poisson))
     parts = reductions(mesh, far, grid.weights, mirror)
-    systems = mixed_systems(mesh, shear, poisson, far, parts)
+    ring = None if radius is None else rings.find(mesh, np.arange(grid.elements), np.array([0.0, -radius]))
+    systems = mixed_systems(mesh, shear, poisson, far, parts, ring)
     solutions = []
     while systems:
         system = systems.pop(0)
@@ -247,5 +256,5 @@ def condensed(
     """Condensed compliance of the bonded annulus on the contact grid, in the arc's directions
     [length/stress] (module docstring); lengths [length], ``young`` E [stress]."""
     mesh = annulus_mesh(grid, radius, inner_radius, largest=largest)
-    blocks = rotate(xy_compliance(mesh, grid, young, poisson, mirror), contact_angles(mesh, radius))
+    blocks = rotate(xy_compliance(mesh, grid, young, poisson, mirror, radius), contact_angles(mesh, radius))
     return Compliance(x=grid.x, weights=grid.weights, definite_normal=True, **blocks)
