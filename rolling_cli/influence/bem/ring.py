@@ -86,36 +86,46 @@ def fill(ring: Ring, template: np.ndarray, points: np.ndarray, elements: np.ndar
     q = np.flatnonzero(order[elements] >= 0)
     if not (p.size and q.size):
         return p, q
-    k_p, slot = np.divmod(position[points[p]], 3)
+    p = p[np.argsort(position[points[p]], kind="stable")]  # the points in ring order
+    at = position[points[p]]  # (m,) their ring positions 3 k + a, increasing
     k_e = order[elements[q]]
-    offset = k_p[None, :] - k_e[:, None]  # (e, m)
-    last = offset < 0
-    index = np.where(last, 3 * n, 0) + 3 * np.where(last, n - 1 + offset, offset) + slot[None, :]
     # Q M Q^T for each 2x2 block, stored transposed (X = M^T, X' = Q X Q^T): vec(X') = (Q kron Q) vec(X)
-    spin = [_kron(ring.angles[k_e] - ring.angles[end]) for end in (0, n - 1)]  # (e, 4, 4) each
-    kron = np.where(last[:, :, None, None], spin[1][:, None], spin[0][:, None]).swapaxes(-1, -2)  # (e, m, 4, 4)
-    rows_q, cols_p = _span(q), _span(p)
-    for target, values in ((h, template[0]), (g, template[1])):
-        # values (2 rows, 3 j, 2 l, 3 n, 2 k) -> (2 * 3 n, 3 j, 4 (l, k)): a node's values contiguous
-        per_node = values.transpose(0, 3, 1, 2, 4).reshape(6 * n, 3, 4)
-        rotated = np.matmul(per_node[index], kron)  # (e, m, 3, 4)
-        rotated = rotated.reshape(q.size, p.size, 3, 2, 2).transpose(0, 2, 3, 1, 4)  # (e, j, l, m, k)
-        if isinstance(rows_q, slice) and isinstance(cols_p, slice):
-            target[rows_q, :, :, cols_p] = rotated
-        else:
-            for k, element in enumerate(q):
-                target[element][:, :, p] = rotated[k]
+    spins = [_kron(ring.angles[k_e] - ring.angles[end]).swapaxes(-1, -2) for end in (0, n - 1)]  # (e, 4, 4)
+    # values (2 rows, 3 j, 2 l, 3 n, 2 k) -> (2 rows, 3 n, 12 (j, l, k)): a node's values contiguous
+    per_node = [values.transpose(0, 3, 1, 2, 4).reshape(2, 3 * n, 12) for values in template]
+    contiguous = bool(np.all(np.diff(at) == 1))
+    splits = np.searchsorted(at, 3 * k_e)  # points before: the last element's row; from there: the first's
+    for target, nodes in zip((h, g), per_node, strict=True):
+        out = np.empty((q.size, p.size, 3, 4))
+        for k in range(q.size):  # one rotation per element and row: two matrix products (3 m', 4) x (4, 4)
+            cut = splits[k]
+            for lo, hi, row, shift in ((cut, p.size, 0, -3 * k_e[k]), (0, cut, 1, 3 * (n - 1 - k_e[k]))):
+                if hi > lo:
+                    source = slice(at[lo] + shift, at[hi - 1] + shift + 1) if contiguous else at[lo:hi] + shift
+                    block = nodes[row, source].reshape(-1, 4)
+                    np.matmul(block, spins[row][k], out=out[k, lo:hi].reshape(-1, 4))
+        rotated = out.reshape(q.size, p.size, 3, 2, 2).transpose(0, 2, 3, 1, 4)  # (e, j, l, m, k)
+        rows, columns = _progression(q), _progression(p)
+        if rows is not None and columns is not None:  # one strided copy
+            target[rows, :, :, columns] = rotated
+            continue
+        for k, element in enumerate(q):
+            target[element][:, :, p] = rotated[k]
     return p, q
+
+
+def _progression(index: np.ndarray) -> slice | None:
+    """A slice for an index array in steps of +1 or -1, else None."""
+    if index.size == 1:
+        return slice(int(index[0]), int(index[0]) + 1)
+    step = int(index[1] - index[0])
+    if step not in (1, -1) or not np.all(np.diff(index) == step):
+        return None
+    stop = int(index[-1]) + step
+    return slice(int(index[0]), stop if stop >= 0 else None, step)
 
 
 def _kron(angles: np.ndarray) -> np.ndarray:
     """Q kron Q (n, 4, 4) for rotations by ``angles`` (n,) [rad]: acts on a 2x2 matrix flattened by rows."""
     q = rotation(angles)
     return np.einsum("nab,ncd->nacbd", q, q).reshape(-1, 4, 4)
-
-
-def _span(index: np.ndarray):
-    """A slice for a contiguous increasing index array, else the array."""
-    if index[-1] - index[0] == index.size - 1 and np.all(np.diff(index) == 1):
-        return slice(int(index[0]), int(index[-1]) + 1)
-    return index
