@@ -212,12 +212,14 @@ def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: floa
     [force/length], in its shaft's frame (y along the line of centres, the body above its contact in
     its own frame): ``shaft_load`` = sum w (-p_n cos + p_t' sin), the compressive load on its shaft,
     and ``shaft_tangential_load`` the force on body A along x, sum w (p_n sin + p_t cos) for a finite
-    A (p_t' = p_t; a finite B alone carries p_t' = -p_t). P and Q, the sums along the arc, differ
-    from them by O(a/R) where the pressure is off-centre. ``contact_angle`` and ``contact_arc``
-    [rad]: the contact's centre and extent on the finite body's outer circle.
+    A (p_t' = p_t; a finite B alone carries p_t' = -p_t); ``shaft_torque`` [moment/length] = R sum w p_t,
+    the moment about the shaft's axis that the shaft transmits (the pressure, along the radius, has
+    none), so Q = shaft_torque / R (tests/test_finite_shaft.py checks all three against the bore's
+    reaction). ``contact_angle`` and ``contact_arc`` [rad]: the contact's centre and extent on the
+    finite body's outer circle.
     """
     a, b = case.bodies.A, case.bodies.B
-    names = ("shaft_load", "shaft_tangential_load", "contact_angle", "contact_arc")
+    names = ("shaft_load", "shaft_tangential_load", "shaft_torque", "contact_angle", "contact_arc")
     if not (a.shape == "cylinder" or b.shape == "cylinder"):
         return dict.fromkeys(names, math.nan)
     finite_a = a.shape == "cylinder"
@@ -228,4 +230,6 @@ def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: floa
     force = w @ (np.asarray(p_n)[:, None] * nu + p_body[:, None] * tau)  # on the finite body, its own frame
     load = float(force[1])
     tangential = float(force[0] if finite_a else -force[0])
-    return dict(zip(names, (load, tangential, centre / radius, 2.0 * half_width / radius), strict=True))
+    torque = radius * float(w @ np.asarray(p_t))
+    values = (load, tangential, torque, centre / radius, 2.0 * half_width / radius)
+    return dict(zip(names, values, strict=True))
