@@ -42,10 +42,25 @@ R -> inf. For a solid roller the radial term cancels the curved surface's
 extra tangential displacement to O(a/R); for a cover on a rigid core it is
 the cover's change of rolling radius.
 
-P = -sum w p_n and Q = sum w p_t are the sums along the arc; the shaft's
-resultants (:func:`shaft_quantities`) differ from them by O(a/R) where the
-pressure is off-centre (Q by 17 % at a/R = 0.3 in the README's hollow
-roller). Tried and not taken: tractions along the counterpart's normal and
+**Loads on the shaft.** P = -sum w p_n and Q = sum w p_t are the sums along
+the arc. By the equilibrium of the body (the bore's reaction balances the
+contact tractions: tests/test_finite_shaft.py), Q is exactly the torque the
+shaft transmits divided by R (``shaft_torque``: the pressure, radial, has no
+moment about the centre), the creep force a rig's torque meter reads; the
+force on the shaft's bearing (:func:`shaft_quantities`) is the vector
+resultant: along x, Q's projection plus the pressure's, P e / R for a
+pressure centroid e off the line of centres. The tangential traction shifts
+the pressure on a curved body (by e = -0.096 a in a hollow roller, nu = 0.3,
+a/R = 0.29, Q/(mu P) = 0.5; -0.075 a at nu = 0.5: not a Dundurs effect), so
+that bearing force exceeds Q by 0.11 = 17 % of Q there (1.2 % for a cover at
+a/R = 0.19), and by nothing without a tangential load (6e-6 of P). Q is kept
+as the torque over R; the bearing force is ``shaft_tangential_load``. Along
+the line of centres the bearing force ``shaft_load`` is P's projection (cos
+theta) plus the tangential traction's: 1.6 % below the arc sum P in that
+hollow roller, 1.5 % for the cover, 0.5 % above at Q = 0; load control
+prescribes the arc sum (the solver's load rows use the quadrature weights
+throughout), so a given shaft load is met by scaling P by their ratio.
+Tried and not taken: tractions along the counterpart's normal and
 tangent (``traction_frame = "contact"``: vertical against a flat, which makes
 P and Q the shaft's resultants). At a/R = 0.3 its creepage is 4 % off the
 arc frame's (the direction of the pressure on a surface that the contact
