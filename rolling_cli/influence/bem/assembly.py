@@ -357,18 +357,28 @@ def near_integrals(mesh, geo, pairs, t, dist, shear, poisson) -> tuple[np.ndarra
     right = np.clip(centre[:, None] + offsets, -1.0, 1.0)
     left = np.clip(centre[:, None] - offsets, -1.0, 1.0)
     edges = np.hstack([left[:, ::-1], right[:, 1:]])  # (P, 2 levels + 3), increasing
+    # sub-intervals clipped to nothing (beyond an end of the element, the more of them the farther
+    # the pair from the nearest one) carry no weight: integrate each pair's others only, in groups
+    # of pairs with as many (the same points and weights, summed in another order)
     lo, hi = edges[:, :-1], edges[:, 1:]
+    empty = hi <= lo
+    first = np.argsort(empty, axis=1, kind="stable")  # the non-empty sub-intervals first, in order
+    lo, hi = np.take_along_axis(lo, first, axis=1), np.take_along_axis(hi, first, axis=1)
+    counts = np.count_nonzero(~empty, axis=1)
     xg, wg = gauss(GAUSS_NEAR)
-    half = 0.5 * (hi - lo)
-    xi = (0.5 * (hi + lo))[:, :, None] + half[:, :, None] * xg[None, None, :]
-    w = half[:, :, None] * wg[None, None, :]
-    per = xi.shape[1] * xi.shape[2]
-    xi = xi.reshape(len(pairs), per)
-    w = w.reshape(len(pairs), per)
-    # sub-intervals clipped to nothing at an end of the element carry no weight; where that end is the
-    # point itself (a curved element's own end node) move their points off it (the kernels are singular)
-    xi = np.where(w == 0.0, np.where(np.abs(centre)[:, None] > 0.5, 0.0, 0.5), xi)
-    return _integrate(mesh, geo, pairs, xi, w, shear, poisson)
+    h = np.empty((len(pairs), 3, 2, 2))
+    g = np.empty_like(h)
+    for count in np.unique(counts):
+        chosen = np.flatnonzero(counts == count)
+        low, high = lo[chosen, :count], hi[chosen, :count]
+        half = 0.5 * (high - low)
+        xi = (0.5 * (high + low))[:, :, None] + half[:, :, None] * xg[None, None, :]
+        w = half[:, :, None] * wg[None, None, :]
+        per = xi.shape[1] * xi.shape[2]
+        h[chosen], g[chosen] = _integrate(
+            mesh, geo, pairs[chosen], xi.reshape(chosen.size, per), w.reshape(chosen.size, per), shear, poisson
+        )
+    return h, g
 
 
 def _integrate(mesh, geo, pairs, xi, w, shear, poisson) -> tuple[np.ndarray, np.ndarray]:
@@ -404,6 +414,20 @@ def own_integrals(mesh, geo, pairs, centre, shear, poisson) -> tuple[np.ndarray,
     side = np.array([-1.0, 1.0])
     xi = centre[:, None, None] + side[None, :, None] * lengths[:, :, None] * u[None, None, :] ** OWN_POWER
     w = lengths[:, :, None] * du[None, None, :]
-    # a side of length 0 (the node at an end of its element) carries no weight: put its points inside
-    xi = np.where(w == 0.0, np.where(np.abs(centre)[:, None, None] > 0.5, 0.0, 0.5), xi)
-    return _integrate(mesh, geo, pairs, xi.reshape(len(pairs), -1), w.reshape(len(pairs), -1), shear, poisson)
+    # a side of length 0 (the node at an end of its element, a continuous element's) carries no
+    # weight: those pairs integrate their other side only
+    h = np.empty((len(pairs), 3, 2, 2))
+    g = np.empty_like(h)
+    one_sided = lengths.min(axis=1) == 0.0
+    for chosen, sides in ((np.flatnonzero(~one_sided), slice(None)), (np.flatnonzero(one_sided), None)):
+        if not chosen.size:
+            continue
+        if sides is None:  # the side with the length
+            keep = np.argmax(lengths[chosen], axis=1)
+            x, weight = xi[chosen, keep][:, None], w[chosen, keep][:, None]
+        else:
+            x, weight = xi[chosen], w[chosen]
+        h[chosen], g[chosen] = _integrate(
+            mesh, geo, pairs[chosen], x.reshape(chosen.size, -1), weight.reshape(chosen.size, -1), shear, poisson
+        )
+    return h, g

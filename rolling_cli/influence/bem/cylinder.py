@@ -73,26 +73,31 @@ def _arc_segment(
     map puts their local coordinates (within (h/R)^4 R of the circle). Continuity as
     :meth:`.mesh._Builder.segment`: discontinuous at the segment's ends (or everywhere)."""
     count = theta.size - 1
+    starts = np.full(count, discontinuous)
+    ends = np.full(count, discontinuous)
+    starts[0] = ends[-1] = True
+    local = np.where(
+        np.stack([starts, np.zeros(count, bool), ends], axis=1),
+        functional_nodes(True, True)[None, :],
+        functional_nodes(False, False)[None, :],
+    )  # (count, 3) as functional_nodes(start, end) per element
+    middle = 0.5 * (theta[:-1] + theta[1:])
+    geometry = _circle(radius, centre_y, np.stack([theta[:-1], middle, theta[1:]], axis=1).ravel()).reshape(count, 3, 2)
+    positions = np.matmul(evaluate(GEOMETRY_COEFFICIENTS, local), geometry)  # (count, 3 nodes, 2)
+    positions[np.abs(positions[..., 0]) < 1e-14 * radius, 0] = 0.0
     shared = None
     for k in range(count):
-        start_disc = discontinuous or k == 0
-        end_disc = discontinuous or k == count - 1
-        local = functional_nodes(start_disc, end_disc)
-        geometry = _circle(radius, centre_y, np.array([theta[k], 0.5 * (theta[k] + theta[k + 1]), theta[k + 1]]))
-        shape = evaluate(GEOMETRY_COEFFICIENTS, local[None, :])[0]  # (3 nodes, 3 geometric nodes)
-        positions = shape @ geometry
-        positions[np.abs(positions[:, 0]) < 1e-14 * radius, 0] = 0.0
         ids = []
         for a in range(3):
-            if a == 0 and not start_disc and shared is not None:
+            if a == 0 and not starts[k] and shared is not None:
                 ids.append(shared)
                 continue
-            b.nodes.append(positions[a])
+            b.nodes.append(positions[k, a])
             b.fixed.append(fixed)
             ids.append(len(b.nodes) - 1)
-        shared = ids[2] if not end_disc else None
-        b.geometry.append(geometry)
-        b.local.append(local)
+        shared = ids[2] if not ends[k] else None
+        b.geometry.append(geometry[k])
+        b.local.append(local[k])
         b.connectivity.append(ids)
 
 
