@@ -92,3 +92,38 @@ def test_graded_grid_is_no_ring():
     grid = ContactGrid.graded(np.concatenate([np.linspace(-0.8, 0.0, 11), np.linspace(0.0, 0.8, 6)[1:]]), 2)
     mesh = cylinder.annulus_mesh(grid, 5.0, 4.0)
     assert ring.find(mesh, np.arange(grid.elements), np.array([0.0, -5.0])) is None
+
+
+_BEM_THREADS = """
+import sys
+from threadpoolctl import threadpool_info
+from rolling_cli import blas
+from rolling_cli.influence.bem import cylinder
+from rolling_cli.model.grid import ContactGrid
+grid = ContactGrid(0.5, 8, 2)
+with blas.command_threads(1):
+    cylinder.condensed(grid, 5.0, 4.0, 10.0, 0.3)  # a small body: numpy's LAPACK
+    small = "scipy.linalg" in sys.modules
+    from rolling_cli.influence.bem import condense
+    import numpy as np
+    condense.factorise(np.asfortranarray(np.eye(3)))  # the in-place path imports scipy.linalg now
+    counts = sorted({lib["num_threads"] for lib in threadpool_info() if lib["user_api"] == "blas"})
+print(small, "scipy.linalg" in sys.modules, counts)
+"""
+
+
+def test_small_bodies_skip_scipy_and_a_late_scipy_runs_the_commands_threads():
+    """A small finite body's build imports no scipy.linalg (its ~0.2 s of start-up); the in-place
+    LU, which imports it when first needed, limits scipy's BLAS to the command's one thread (as
+    the BEM's LAPACK did when scipy came with the package's import). In a process without the
+    thread variables, where each library starts with one thread per CPU."""
+    import os
+    import subprocess
+    import sys
+
+    from rolling_cli import blas
+
+    clean = {k: v for k, v in os.environ.items() if k not in blas.USER_THREAD_VARIABLES}
+    done = subprocess.run([sys.executable, "-c", _BEM_THREADS], capture_output=True, text=True, env=clean)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "False True [1]"

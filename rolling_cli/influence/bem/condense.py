@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ... import blas
 from .mesh import BoundaryMesh
 from .symmetry import Reduction
 
@@ -51,6 +52,7 @@ def factorise(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """LU of a column-major float64 matrix, in place (its storage becomes the factors): (lu, pivots)."""
     from scipy.linalg import lapack  # lazy: its import costs ~0.2 s of CPU, which small bodies skip (solve_small)
 
+    blas.settle()  # scipy's BLAS, perhaps loaded just now, on the command's threads
     lu, pivots, info = lapack.dgetrf(matrix, overwrite_a=True)
     if info > 0:
         raise np.linalg.LinAlgError("the BEM boundary system is singular")
@@ -61,6 +63,7 @@ def solve(factors: tuple[np.ndarray, np.ndarray], rhs: np.ndarray, overwrite: bo
     """A^-1 rhs for the factors of :func:`factorise`; ``overwrite`` solves in the (column-major) rhs."""
     from scipy.linalg import lapack
 
+    blas.settle()
     x, info = lapack.dgetrs(*factors, rhs, overwrite_b=overwrite)
     if info != 0:
         raise ValueError(f"getrs: illegal argument {-info}")
