@@ -59,7 +59,9 @@ the line of centres the bearing force ``shaft_load`` is P's projection (cos
 theta) plus the tangential traction's: 1.6 % below the arc sum P in that
 hollow roller, 1.5 % for the cover, 0.5 % above at Q = 0; load control
 prescribes the arc sum (the solver's load rows use the quadrature weights
-throughout), so a given shaft load is met by scaling P by their ratio.
+throughout), so a given shaft load is met by scaling P by their ratio; the
+difference is within the linear theory's O(a/R) ambiguity of the traction
+directions at such a/R (next paragraph).
 Tried and not taken: tractions along the counterpart's normal and
 tangent (``traction_frame = "contact"``: vertical against a flat, which makes
 P and Q the shaft's resultants). At a/R = 0.3 its creepage is 4 % off the
