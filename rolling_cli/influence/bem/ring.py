@@ -25,7 +25,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .assembly import distinct
 from .mesh import BoundaryMesh
 
 #: Geometric nodes of the ring's elements must match the rotated first element within this fraction of the radius.
@@ -49,7 +48,7 @@ def find(mesh: BoundaryMesh, elements: np.ndarray, centre: np.ndarray) -> Ring |
     if elements.size < 3:
         return None
     nodes = mesh.connectivity[elements]
-    if distinct(nodes).size != nodes.size:
+    if np.any(np.diff(np.sort(nodes.ravel())) == 0):  # a node shared by two elements
         return None
     geometry = mesh.geometry[elements] - centre  # (n, 3, 2)
     radius = float(np.linalg.norm(geometry[0, 1]))
