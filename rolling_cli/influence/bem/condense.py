@@ -113,6 +113,8 @@ def contact_blocks(
             load = weights[valid] * part.sign[loaded, axis]
             resultant = np.bincount(part.unknown[loaded, axis], weights=load, minlength=m)
             far = solution[:m, m + column]
+            if not far.any():  # no far field (a finite body's shaft is its reference): nothing to add
+                continue
             for start in range(0, m, _ROWS):
                 response[:, start : start + _ROWS] += np.outer(far, resultant[start : start + _ROWS])
         responses.append(response)
