@@ -53,7 +53,7 @@ pressure centroid e off the line of centres. The tangential traction shifts
 the pressure on a curved body (by e = -0.096 a in a hollow roller, nu = 0.3,
 a/R = 0.29, Q/(mu P) = 0.5; -0.075 a at nu = 0.5: not a Dundurs effect), so
 that bearing force exceeds Q by 0.11 = 17 % of Q there (1.2 % for a cover at
-a/R = 0.19), and by nothing without a tangential load (6e-6 of P). Q is kept
+a/R = 0.19), and by nothing without a tangential load (3e-6 of P). Q is kept
 as the torque over R; the bearing force is ``shaft_tangential_load``. Along
 the line of centres the bearing force ``shaft_load`` is P's projection (cos
 theta) plus the tangential traction's: 1.6 % below the arc sum P in that
