@@ -174,7 +174,7 @@ def _compute_bem(inputs: dict) -> Compliance:
     from .. import blas
     from . import bem
 
-    blas.settle()  # the BEM's LAPACK (scipy's BLAS, loaded by the import) on the command's threads
+    blas.settle()  # the BEM's LAPACK on the command's threads (scipy's, loaded later, settles in .bem.condense)
 
     if inputs.get("shape") == "cylinder":
         from .bem import cylinder

@@ -42,10 +42,27 @@ R -> inf. For a solid roller the radial term cancels the curved surface's
 extra tangential displacement to O(a/R); for a cover on a rigid core it is
 the cover's change of rolling radius.
 
-P = -sum w p_n and Q = sum w p_t are the sums along the arc; the shaft's
-resultants (:func:`shaft_quantities`) differ from them by O(a/R) where the
-pressure is off-centre (Q by 17 % at a/R = 0.3 in the README's hollow
-roller). Tried and not taken: tractions along the counterpart's normal and
+**Loads on the shaft.** P = -sum w p_n and Q = sum w p_t are the sums along
+the arc. By the equilibrium of the body (the bore's reaction balances the
+contact tractions: tests/test_finite_shaft.py), Q is exactly the torque the
+shaft transmits divided by R (``shaft_torque``: the pressure, radial, has no
+moment about the centre), the creep force a rig's torque meter reads; the
+force on the shaft's bearing (:func:`shaft_quantities`) is the vector
+resultant: along x, Q's projection plus the pressure's, P e / R for a
+pressure centroid e off the line of centres. The tangential traction shifts
+the pressure on a curved body (by e = -0.096 a in a hollow roller, nu = 0.3,
+a/R = 0.29, Q/(mu P) = 0.5; -0.075 a at nu = 0.5: not a Dundurs effect), so
+that bearing force exceeds Q by 0.11 = 17 % of Q there (1.2 % for a cover at
+a/R = 0.19), and by nothing without a tangential load (3e-6 of P). Q is kept
+as the torque over R; the bearing force is ``shaft_tangential_load``. Along
+the line of centres the bearing force ``shaft_load`` is P's projection (cos
+theta) plus the tangential traction's: 1.6 % below the arc sum P in that
+hollow roller, 1.5 % for the cover, 0.5 % above at Q = 0; load control
+prescribes the arc sum (the solver's load rows use the quadrature weights
+throughout), so a given shaft load is met by scaling P by their ratio; the
+difference is within the linear theory's O(a/R) ambiguity of the traction
+directions at such a/R (next paragraph).
+Tried and not taken: tractions along the counterpart's normal and
 tangent (``traction_frame = "contact"``: vertical against a flat, which makes
 P and Q the shaft's resultants). At a/R = 0.3 its creepage is 4 % off the
 arc frame's (the direction of the pressure on a surface that the contact
@@ -212,12 +229,14 @@ def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: floa
     [force/length], in its shaft's frame (y along the line of centres, the body above its contact in
     its own frame): ``shaft_load`` = sum w (-p_n cos + p_t' sin), the compressive load on its shaft,
     and ``shaft_tangential_load`` the force on body A along x, sum w (p_n sin + p_t cos) for a finite
-    A (p_t' = p_t; a finite B alone carries p_t' = -p_t). P and Q, the sums along the arc, differ
-    from them by O(a/R) where the pressure is off-centre. ``contact_angle`` and ``contact_arc``
-    [rad]: the contact's centre and extent on the finite body's outer circle.
+    A (p_t' = p_t; a finite B alone carries p_t' = -p_t); ``shaft_torque`` [moment/length] = R sum w p_t,
+    the moment about the shaft's axis that the shaft transmits (the pressure, along the radius, has
+    none), so Q = shaft_torque / R (tests/test_finite_shaft.py checks all three against the bore's
+    reaction). ``contact_angle`` and ``contact_arc`` [rad]: the contact's centre and extent on the
+    finite body's outer circle.
     """
     a, b = case.bodies.A, case.bodies.B
-    names = ("shaft_load", "shaft_tangential_load", "contact_angle", "contact_arc")
+    names = ("shaft_load", "shaft_tangential_load", "shaft_torque", "contact_angle", "contact_arc")
     if not (a.shape == "cylinder" or b.shape == "cylinder"):
         return dict.fromkeys(names, math.nan)
     finite_a = a.shape == "cylinder"
@@ -228,4 +247,6 @@ def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: floa
     force = w @ (np.asarray(p_n)[:, None] * nu + p_body[:, None] * tau)  # on the finite body, its own frame
     load = float(force[1])
     tangential = float(force[0] if finite_a else -force[0])
-    return dict(zip(names, (load, tangential, centre / radius, 2.0 * half_width / radius), strict=True))
+    torque = radius * float(w @ np.asarray(p_t))
+    values = (load, tangential, torque, centre / radius, 2.0 * half_width / radius)
+    return dict(zip(names, values, strict=True))

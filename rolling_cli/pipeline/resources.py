@@ -22,7 +22,9 @@ contact nodes in the Newton system, m the size of the reduced Newton matrix):
   element integrals of one block and their temporaries,
   :data:`BEM_BLOCK_TEMPORARIES` min(12 N E, :data:`BEM_BLOCK`), and
   condensation, 2 N (n + 1) + 4 n^2 (the solutions and the four blocks);
-  then 4 n^2 (its four blocks) are kept.
+  then 4 n^2 (its four blocks) are kept. A finite cylinder of at most
+  ``influence.bem.condense.SMALL_SYSTEM`` unknowns is solved by numpy's LU,
+  on copies: 3 N^2 + 4 N (n + 1) while a half is solved, if that is larger.
 * **pair and system**: the pair blocks (2 + 2 coupled) n^2 for BEM (the
   half-plane blocks are the pair's already), and B_tt (+ B_tn) n^2; the
   "element" slip derivative adds 2 n^2 of temporaries while it is built.
@@ -255,6 +257,8 @@ def _influence(case, the_plan) -> tuple[list[tuple[str, float]], float, int, str
         big_n, big_e = body_mesh_size(case, the_plan, body)
         block = BEM_BLOCK_TEMPORARIES * min(12.0 * big_n * big_e, BEM_BLOCK)
         assembly = 2.0 * big_n**2 + 2.0 * big_n * (n + 1) + block  # two halves of N unknowns each
+        if body.finite and big_n <= _small_system():  # numpy's LU: copies of one half and its solution
+            assembly = max(assembly, 3.0 * big_n**2 + 4.0 * big_n * (n + 1))
         condensation = 2.0 * big_n * (n + 1) + 4.0 * n**2
         stages.append((f"the BEM influence of body {label}", kept + max(assembly, condensation)))
         flops += 0.5 * big_n * big_e * BEM_PAIR_FLOPS + (4.0 / 3.0) * big_n**3 + 4.0 * big_n**2 * n
@@ -264,6 +268,14 @@ def _influence(case, the_plan) -> tuple[list[tuple[str, float]], float, int, str
             if body.kind == "layered" and big_n - n > n:
                 key = f"bodies.{label}.layer_thickness"
     return stages, flops, boundary, key
+
+
+def _small_system() -> int:
+    """Unknowns up to which a finite body's halves are solved by numpy's LU, on copies
+    (``influence.bem.condense.SMALL_SYSTEM``)."""
+    from ..influence.bem.condense import SMALL_SYSTEM
+
+    return SMALL_SYSTEM
 
 
 def _computed_bodies(case, the_plan) -> list[str]:

@@ -160,6 +160,11 @@ class Contact:
         "finite cylinder: tangential resultant of the contact tractions on body A's shaft (NaN: no finite body)",
         "force/length",
     )
+    shaft_torque: float | None = quantity(
+        "finite cylinder: moment about the finite body's shaft axis that its shaft transmits, R Q "
+        "(NaN: no finite body)",
+        "moment/length",
+    )
     contact_angle: float | None = quantity(
         "finite cylinder: angular position of the contact centre on its outer circle, rad (NaN: no finite body)", "1"
     )

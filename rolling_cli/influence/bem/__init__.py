@@ -19,7 +19,9 @@ at +-W, are traction-free.
 
 A third, the **finite cylinder** (an annulus on a rigid shaft or core, curved
 elements on both circles), is :mod:`.cylinder`, condensed in its contact
-arc's own directions.
+arc's own directions; its uniform contact arc is a ring of rotated copies,
+whose mutual integrals :mod:`.ring` rotates from two computed rows, and its
+systems, small, are solved by numpy's LU (:func:`.condense.solve_small`).
 
 In the block's frame the body lies below y = 0, so the displacement into the
 body is w = -u_y, the normal traction is p_n = t_y and the tangential one

@@ -28,8 +28,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import lapack
 
+from ... import blas
 from .mesh import BoundaryMesh
 from .symmetry import Reduction
 
@@ -50,6 +50,9 @@ def boundary_system(mesh: BoundaryMesh, H: np.ndarray, G: np.ndarray) -> tuple[n
 
 def factorise(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """LU of a column-major float64 matrix, in place (its storage becomes the factors): (lu, pivots)."""
+    from scipy.linalg import lapack  # lazy: its import costs ~0.2 s of CPU, which small bodies skip (solve_small)
+
+    blas.settle()  # scipy's BLAS, perhaps loaded just now, on the command's threads
     lu, pivots, info = lapack.dgetrf(matrix, overwrite_a=True)
     if info > 0:
         raise np.linalg.LinAlgError("the BEM boundary system is singular")
@@ -58,10 +61,30 @@ def factorise(matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def solve(factors: tuple[np.ndarray, np.ndarray], rhs: np.ndarray, overwrite: bool = False) -> np.ndarray:
     """A^-1 rhs for the factors of :func:`factorise`; ``overwrite`` solves in the (column-major) rhs."""
+    from scipy.linalg import lapack
+
+    blas.settle()
     x, info = lapack.dgetrs(*factors, rhs, overwrite_b=overwrite)
     if info != 0:
         raise ValueError(f"getrs: illegal argument {-info}")
     return x
+
+
+#: Unknowns up to which :func:`solve_small` solves with numpy (a copy of A, at most 18 MB).
+SMALL_SYSTEM = 1500
+
+
+def solve_small(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+    """A^-1 rhs by numpy's LAPACK (gesv: the same LU with partial pivoting as :func:`factorise` and
+    :func:`solve`, on copies) for a system of at most ``SMALL_SYSTEM`` unknowns, else None. It
+    spares a small body's whole process the import of scipy.linalg (~0.2 s of CPU, more than numpy's
+    own), where the copies cost little; larger systems take the in-place path."""
+    if matrix.shape[0] > SMALL_SYSTEM:
+        return None
+    try:
+        return np.linalg.solve(matrix, rhs)
+    except np.linalg.LinAlgError as error:
+        raise np.linalg.LinAlgError("the BEM boundary system is singular") from error
 
 
 def contact_blocks(
@@ -90,6 +113,8 @@ def contact_blocks(
             load = weights[valid] * part.sign[loaded, axis]
             resultant = np.bincount(part.unknown[loaded, axis], weights=load, minlength=m)
             far = solution[:m, m + column]
+            if not far.any():  # no far field (a finite body's shaft is its reference): nothing to add
+                continue
             for start in range(0, m, _ROWS):
                 response[:, start : start + _ROWS] += np.outer(far, resultant[start : start + _ROWS])
         responses.append(response)

@@ -13,6 +13,8 @@ coordinates depend on the element kind:
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 DISCONTINUOUS = 2.0 / 3.0
@@ -57,6 +59,10 @@ def map_points(geometry: np.ndarray, xi: np.ndarray):
     return points, normal, jac
 
 
+@functools.lru_cache(maxsize=32)
 def gauss(order: int) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss-Legendre points and weights on [-1, 1]."""
-    return np.polynomial.legendre.leggauss(order)
+    """Gauss-Legendre points and weights on [-1, 1] (computed once per order: read-only arrays)."""
+    points, weights = np.polynomial.legendre.leggauss(order)
+    points.setflags(write=False)
+    weights.setflags(write=False)
+    return points, weights

@@ -43,17 +43,18 @@ class MixedSystem:
 
 
 def mixed_systems(
-    mesh: BoundaryMesh, shear: float, poisson: float, far_values: np.ndarray, parts: list[Reduction]
+    mesh: BoundaryMesh, shear: float, poisson: float, far_values: np.ndarray, parts: list[Reduction], ring=None
 ) -> list[MixedSystem]:
     """Assemble A and R (module docstring) of each reduction in ``parts`` (which share their
     collocation nodes) for ``mesh``: G [stress], nu, ``far_values`` V (2N, 2) [length / (force/length)]
     (row 2j + l: node j's prescribed component l per unit force along axis f = column; zero off
-    ``mesh.far``). One pass over the element integrals serves them all."""
+    ``mesh.far``). One pass over the element integrals serves them all; ``ring`` as
+    :func:`.assembly.element_blocks`."""
     points = parts[0].points
     far = np.asarray(far_values, dtype=float).reshape(mesh.size, 2, 2)  # [node j, component l, force axis f]
     sinks = [_Sink(mesh, part, points) for part in parts]
     rowsum = np.zeros((2, points.size, 2))  # sum_j H[(i, k), (j, l)] as [l, p, k], i = points[p]
-    for elements, h, g in element_blocks(mesh, shear, poisson, points):
+    for elements, h, g in element_blocks(mesh, shear, poisson, points, ring):
         rowsum += h.sum(axis=(0, 1))
         for a in range(3):  # within one slot a, the nodes of distinct elements are distinct
             nodes = mesh.connectivity[elements, a]
