@@ -7,8 +7,12 @@ z(theta) = A(theta)^-1 b(theta) for every parameter theta, so
 
     A dz/dtheta = -d(A z - b)/dtheta   (z held)
 
-is one more linear solve per parameter with the final matrix (a dense matrix
-is factorised once for all of them; no Newton iteration). At fixed node states
+is one more linear solve per parameter with the final matrix (no Newton
+iteration). A dense matrix is the Newton's last one when the converged state
+has that step's node states (the usual case): its LU, kept by
+:func:`rolling_cli.solver.reduced.newton_point`, solves every parameter's column
+(:func:`rolling_cli.solver.reduced.kept_system`: no assembly, no factorisation);
+otherwise it is assembled and factorised once for all of them. At fixed node states
 A and b are affine in each parameter (xi and P enter b, mu the slip tractions
 p_t = -mu sigma p_n, Q the force row), so d(A z - b)/dtheta is the difference
 of the system's residual at theta + h and at theta, exact for any h: h is
@@ -128,6 +132,7 @@ def sensitivities(
     w = system.weights
     load = float(-(w @ state.p_n))
     if not load > 0.0:
+        reduced.release()
         return UNDEFINED
     q = float(w @ state.p_t)
     tangential = mu > 0.0
@@ -138,12 +143,14 @@ def sensitivities(
     problem = Problem(system, mode, mu, load=load, force=force)
     ev = evaluate(problem, state, traction_scales(problem, state))
     sets = node_sets(problem, state, ev)
-    base = reduced.reduced_system(problem, state, sets, ev)
+    base = reduced.kept_system(problem, state, sets, ev)
     names = ([] if self_similar else ["P"]) + (["Q" if force else "xi", "mu"] if tangential else [])
     tangents = {}
     if names:
         columns = np.column_stack([_column(problem, state, sets, ev, base, name) for name in names])
-        if isinstance(base.matrix, np.ndarray):
+        if base.factor is not None:  # the Newton's last LU (one getrs for every column)
+            dz = base.factor.solve(columns).reshape(columns.shape)
+        elif isinstance(base.matrix, np.ndarray):
             dz = _solve_blocks(problem, base, columns)
         else:
             dz = np.column_stack([reduced.solve_reduced(base, columns[:, k]) for k in range(len(names))])
