@@ -19,6 +19,7 @@ the Newton's last factorisation then serves the sensitivities (issue 24).
 from __future__ import annotations
 
 import warnings
+from typing import Protocol
 
 import numpy as np
 
@@ -56,6 +57,15 @@ def solve_dense(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
             raise np.linalg.LinAlgError(_SINGULAR)
         return x
     return Factor(matrix).solve(rhs)
+
+
+class Solver(Protocol):
+    """What solves with a kept factorisation: :class:`Factor`, or one updated from it
+    (:mod:`rolling_cli.solver.kept`)."""
+
+    def solve(self, rhs: np.ndarray) -> np.ndarray:
+        """x with A x = rhs; ``rhs`` a vector or columns."""
+        ...
 
 
 class Factor:

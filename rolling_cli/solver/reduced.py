@@ -20,7 +20,7 @@ import numpy as np
 
 from ..influence.toeplitz import apply_sum
 from .formulation import Evaluation, Layout, NodeSets, Problem, State, node_sets
-from .linalg import Factor, block, factorise, solve_dense
+from .linalg import Solver, block, factorise, solve_dense
 
 if TYPE_CHECKING:  # the matrix-free path is imported only when a system uses it (start-up time)
     from .matrix_free import ReducedOperator
@@ -35,12 +35,13 @@ class ReducedSystem:
     the tangential force equations divided by the zone length. ``creep_column`` is
     d rhs / d xi when the creepage is held (the sensitivity of the solution to xi).
     ``matrix`` is dense, or a :class:`~rolling_cli.solver.matrix_free.ReducedOperator`
-    on a matrix-free system; ``factor`` its kept LU when it has one (:func:`kept_system`),
+    on a matrix-free system, or None where only ``factor`` solves it; ``factor`` its kept LU when it
+    has one (:mod:`rolling_cli.solver.kept`),
     ``force_row_n`` the force row's entries on p_n (coupled force control with a target
     that moves with p_n), part of what fixes the matrix.
     """
 
-    matrix: np.ndarray | ReducedOperator
+    matrix: np.ndarray | ReducedOperator | None
     rhs: np.ndarray
     sets: NodeSets
     coef: np.ndarray | None
@@ -49,7 +50,7 @@ class ReducedSystem:
     col_creep: int | None
     creep_column: np.ndarray | None = None
     force_row_n: np.ndarray | None = None
-    factor: Factor | None = None
+    factor: Solver | None = None
 
 
 def layout(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> Layout:
@@ -255,6 +256,8 @@ def solve_reduced(
         return reduced.factor.solve(rhs)
     if isinstance(reduced.matrix, np.ndarray):
         return solve_dense(reduced.matrix, rhs)
+    if reduced.matrix is None:
+        raise ValueError("a reduced system without its matrix solves only through its factor")
     if residual is None:
         return reduced.matrix.solve(rhs, record=record)
     from .matrix_free import forcing_target
@@ -267,7 +270,7 @@ def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | 
     on a matrix-free system to the forcing target of :func:`solve_reduced`). ``record`` receives
     the linear solve's counts (Krylov only), for the step's history row. With a velocity-dependent
     friction law: :func:`rolling_cli.solver.velocity.newton_point`. A dense matrix's LU is kept
-    (the last one only) for :func:`kept_system`: the same numbers as an LU made and dropped."""
+    (the last one only) for :func:`rolling_cli.solver.kept.kept_system`: the same numbers as an LU made and dropped."""
     global _KEPT
     if problem.friction is not None and problem.tangential:
         from . import velocity
@@ -283,44 +286,22 @@ def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | 
     return state_from_solution(problem, state, reduced, dz)
 
 
-#: The last dense Newton matrix with its LU: (weak reference to its system, the mode, the system).
+#: The last dense Newton matrix with its LU: (weak reference to its system, the mode, the system);
+#: taken by :func:`rolling_cli.solver.kept.kept_system`.
 _KEPT: tuple | None = None
 
 
-def kept_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> ReducedSystem:
-    """:func:`reduced_system` of the node sets, with the last Newton step's matrix and LU when that
-    step had the same matrix (same contact system, mode, node sets, slip coefficients and force
-    row: what fixes A), else assembled here (``factor`` None). The kept LU is released: taken
-    once (the converged solve's sensitivities), it does not outlive its use."""
+def take_kept() -> tuple | None:
+    """The kept (system reference, mode, :class:`ReducedSystem` with its ``factor``), released."""
     global _KEPT
     kept, _KEPT = _KEPT, None
-    lay = layout(problem, state, sets, ev)
-    if kept is not None and kept[0]() is problem.system and kept[1] == problem.mode:
-        old: ReducedSystem = kept[2]
-        same = (
-            _equal(old.sets.contact, sets.contact) and _equal(old.sets.stick, sets.stick)
-            and _equal(old.coef, lay.coef) and _equal(old.force_row_n, lay.force_row_n)
-            and (old.col_overlap, old.col_creep, old.rhs.size) == (lay.col_overlap, lay.col_creep, lay.size)
-        )  # fmt: skip
-        if same:
-            return ReducedSystem(
-                old.matrix, lay.rhs, sets, lay.coef, lay.p_t_slip, lay.col_overlap, lay.col_creep,
-                lay.creep_column, lay.force_row_n, old.factor,
-            )  # fmt: skip
-    return reduced_system(problem, state, sets, ev)
+    return kept
 
 
 def release() -> None:
-    """Drop the kept matrix and LU (:func:`kept_system`) without using them."""
+    """Drop the kept matrix and LU without using them."""
     global _KEPT
     _KEPT = None
-
-
-def _equal(a: np.ndarray | None, b: np.ndarray | None) -> bool:
-    """Both None, or equal arrays (bit for bit)."""
-    if a is None or b is None:
-        return a is None and b is None
-    return a.shape == b.shape and bool(np.array_equal(a, b))
 
 
 def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:

@@ -11,7 +11,8 @@ is one more linear solve per parameter with the final matrix (no Newton
 iteration). A dense matrix is the Newton's last one when the converged state
 has that step's node states (the usual case): its LU, kept by
 :func:`rolling_cli.solver.reduced.newton_point`, solves every parameter's column
-(:func:`rolling_cli.solver.reduced.kept_system`: no assembly, no factorisation);
+(:func:`rolling_cli.solver.kept.kept_system`: no assembly, no factorisation;
+an overlap-controlled solve's matrix bordered by the load row and overlap column);
 otherwise it is assembled and factorised once for all of them. At fixed node states
 A and b are affine in each parameter (xi and P enter b, mu the slip tractions
 p_t = -mu sigma p_n, Q the force row), so d(A z - b)/dtheta is the difference
@@ -76,7 +77,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from . import reduced
+from . import kept, reduced
 from .formulation import Problem, State, evaluate, node_sets, traction_scales
 from .linalg import solve_dense
 from .system import ContactSystem
@@ -143,7 +144,7 @@ def sensitivities(
     problem = Problem(system, mode, mu, load=load, force=force)
     ev = evaluate(problem, state, traction_scales(problem, state))
     sets = node_sets(problem, state, ev)
-    base = reduced.kept_system(problem, state, sets, ev)
+    base = kept.kept_system(problem, state, sets, ev)
     names = ([] if self_similar else ["P"]) + (["Q" if force else "xi", "mu"] if tangential else [])
     tangents = {}
     if names:
