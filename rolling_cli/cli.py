@@ -279,6 +279,19 @@ def _span(text: str, option: str = "--range", what: str = "xi R*/(mu a)") -> tup
     return lo, hi
 
 
+def _table_journal(out: str, case, lo: float, hi: float, mu_range, tolerance: float, resume: bool, overwrite: bool):
+    """The journal of a two-axis table's finished rows (:mod:`rolling_cli.study.table_rows`): continued
+    with ``resume``, replaced with ``overwrite``, else refused when one is there."""
+    from .study import table_rows
+    from .study.tabulate import INITIAL
+
+    path = table_rows.journal_path(out)
+    if os.path.exists(path) and not (resume or overwrite):
+        raise CaseError(f"{path}: an interrupted table's rows are there; allowed: --resume, or --overwrite")
+    head = table_rows.header(case, lo, hi, mu_range[0], mu_range[1], tolerance, INITIAL)
+    return table_rows.Journal(path, head, resume)
+
+
 @main.command()
 @verbosity_options
 @click.argument("case_file", type=click.Path(dir_okay=False))
@@ -290,10 +303,14 @@ def _span(text: str, option: str = "--range", what: str = "xi R*/(mu a)") -> tup
     "--range", "span", default="-1:1", show_default=True, help="LO:HI of the creepage normalised as xi R*/(mu a)."
 )
 @click.option("--mu", "friction", default=None, help="LO:HI: a second axis, the coefficient of friction.")
+@click.option(
+    "--workers", type=click.IntRange(1, 256), default=1, show_default=True, help="Worker processes (rows of --mu)."
+)
+@click.option("--resume", is_flag=True, help="Take the rows of --mu an interrupted run finished (TABLE.rows).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing table file.")
 @click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
 @click.pass_context
-def table(ctx, case_file, output, tolerance, span, friction, overwrite, no_cache):
+def table(ctx, case_file, output, tolerance, span, friction, workers, resume, overwrite, no_cache):
     """Tabulate Q/(mu P) against xi R*/(mu a) for CASE_FILE, sampled adaptively (rolling_cli.table.load reads it)."""
 
     def action():
@@ -318,10 +335,18 @@ def table(ctx, case_file, output, tolerance, span, friction, overwrite, no_cache
                 with outputs.atomic_file(out, replace=overwrite) as tmp:
                     table_file.write(tmp, made, intervals)
             else:
-                made, errors = build_friction(case, lo, hi, *mu_range, tolerance, use_cache=not no_cache)
-                shape = f"{len(made.rows)} rows of mu = {mu_range[0]:g} .. {mu_range[1]:g}, each"
-                with outputs.atomic_file(out, replace=overwrite) as tmp:
-                    table_file.write_friction(tmp, made, errors)
+                journal = _table_journal(out, case, lo, hi, mu_range, tolerance, resume, overwrite)
+                try:
+                    made, errors = build_friction(
+                        case, lo, hi, *mu_range, tolerance, use_cache=not no_cache, workers=workers, journal=journal
+                    )
+                    shape = f"{len(made.rows)} rows of mu = {mu_range[0]:g} .. {mu_range[1]:g}, each"
+                    with outputs.atomic_file(out, replace=overwrite) as tmp:
+                        table_file.write_friction(tmp, made, errors)
+                except KeyboardInterrupt:
+                    journal.close()
+                    _fail(f"interrupted: the finished rows are in {journal.path} (continue with --resume)", 130)
+                journal.close(remove=True)
         if not ctx.obj["quiet"]:
             attrs = made.attributes
             click.echo(

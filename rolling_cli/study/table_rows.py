@@ -26,6 +26,7 @@ import contextlib
 import json
 import os
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -39,6 +40,22 @@ _ARRAYS = ("nodes", "values", "slopes", "mu_slopes", "intervals")
 
 #: Solves the rows at the given friction coefficients, each within the given budget of solves.
 RowSolver = Callable[[list[float], int], list]
+
+
+@dataclass
+class Row:
+    """One row of a table: the normalised creepages ``nodes`` u at friction ``mu``, Q/(mu P) ``values``,
+    their slopes in u (``slopes``) and in mu at fixed u (``mu_slopes``), the error estimate of each
+    interval, the solves made and whether the estimate met the tolerance."""
+
+    mu: float
+    nodes: np.ndarray
+    values: np.ndarray
+    slopes: np.ndarray
+    mu_slopes: np.ndarray
+    intervals: np.ndarray
+    cases: int
+    met: bool
 
 
 def journal_path(output: str) -> str:
@@ -62,8 +79,6 @@ class Journal:
     """The rows finished so far (``done``: mu -> row) and the file they are appended to."""
 
     def __init__(self, path: str, head: dict, resume: bool) -> None:
-        from .tabulate import Row
-
         self.path, self.done = path, {}
         if resume and os.path.exists(path):
             with open(path, encoding="utf-8") as handle:
@@ -74,9 +89,9 @@ class Journal:
                     "allowed: --resume with the request that wrote it, or --overwrite"
                 )
             for line in lines[1:]:
-                row = Row(line["mu"], *(np.array(line[k], dtype=float) for k in _ARRAYS[:4]),
-                          np.array(line["intervals"], dtype=float), int(line["cases"]), bool(line["met"]))  # fmt: skip
-                self.done[row.mu] = row
+                nodes, values, slopes, mu_slopes, intervals = (np.array(line[k], dtype=float) for k in _ARRAYS)
+                cases, met = int(line["cases"]), bool(line["met"])
+                self.done[line["mu"]] = Row(line["mu"], nodes, values, slopes, mu_slopes, intervals, cases, met)
             self._handle = open(path, "a", encoding="utf-8")  # noqa: SIM115 - closed by close()
         else:
             self._handle = open(path, "w", encoding="utf-8")  # noqa: SIM115 - closed by close()

@@ -21,9 +21,10 @@ appear, the whole [-0.75, -0.5] met 5e-4 at its midpoint by cancellation and
 its half [-0.75, -0.625] then missed by 1.5e-3 at u = -0.70.) For a smooth
 piece the midpoint is where a cubic Hermite's error peaks (t^2 (1 - t)^2 h^4
 f^(4)/4!); where kinks of the discrete curve move the peak the margin covers
-it: the estimate is that of every final interval itself (measured, not a bound). The loop stops at ``max_cases`` solves, and does not split an
-interval narrower than :data:`NARROWEST` of the range (a jump of the discrete
-curve); either way the table is written with the estimate it reached, and says
+it: the estimate is that of every final interval itself (measured, not a
+bound). The loop stops at ``max_cases`` solves, and does not split an interval
+narrower than :data:`NARROWEST` of the range (a jump of the discrete curve);
+either way the table is written with the estimate it reached, and says
 it did not meet the tolerance.
 
 A second axis, the coefficient of friction (``--mu LO:HI``,
@@ -52,7 +53,6 @@ import dataclasses
 import functools
 import logging
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -64,6 +64,7 @@ from ..result import recorded, utc_timestamp
 from ..solver.formulation import State
 from ..table import FrictionTable, Table, TableRow, between, hermite
 from . import table_rows
+from .table_rows import Row
 
 log = logging.getLogger(__name__)
 
@@ -97,22 +98,6 @@ def check_request(case: Case, lo: float, hi: float, tolerance: float, source: st
         )
     if not case.friction.mu > 0.0:
         raise CaseError("friction.mu = 0: allowed: mu > 0 (Q/(mu P) needs friction)", file=source, key="friction.mu")
-
-
-@dataclass
-class Row:
-    """One row of a table: the normalised creepages ``nodes`` u at friction ``mu``, Q/(mu P) ``values``,
-    their slopes in u (``slopes``) and in mu at fixed u (``mu_slopes``), the error estimate of each
-    interval, the solves made and whether the estimate met the tolerance."""
-
-    mu: float
-    nodes: np.ndarray
-    values: np.ndarray
-    slopes: np.ndarray
-    mu_slopes: np.ndarray
-    intervals: np.ndarray
-    cases: int
-    met: bool
 
 
 def _row(
@@ -266,6 +251,7 @@ def build_friction(
     the_plan, system = _prepared(case, lo, hi, tolerance, mu_high, use_cache)
     _PREPARED[case_to_toml(case), use_cache] = (the_plan, system)
     task = functools.partial(row_task, case, lo, hi, 0.5 * tolerance, initial, use_cache)
+    runner: contextlib.AbstractContextManager[table_rows.RowSolver]
     if workers > 1:
         runner = table_rows.in_workers(workers, task, journal)
     else:
