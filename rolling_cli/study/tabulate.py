@@ -10,32 +10,39 @@ node), giving Q/(mu P) and, from the sensitivity dQ/dxi
 
 Sampling: ``initial`` equally spaced nodes over [lo, hi] (an odd count puts a
 node at u = 0, where Carter's law has its second-derivative jump); then every
-interval not yet accepted is tested at its midpoint: one more solve, compared
-with the interval's Hermite prediction; the estimate is :data:`MARGIN` times
-that error. An interval whose estimate is above the tolerance is split there
-(the midpoint becomes a node) and its halves are tested in turn; one whose
-estimate is within it is accepted as it is: the test point is not made a node. (It once was,
-the halves inheriting the whole's estimate as an upper one, which a kink of the
-curve defeats: on the aluminium/steel pair near free rolling, where slip zones
-appear, the whole [-0.75, -0.5] met 5e-4 at its midpoint by cancellation and
-its half [-0.75, -0.625] then missed by 1.5e-3 at u = -0.70.) For a smooth
-piece the midpoint is where a cubic Hermite's error peaks (t^2 (1 - t)^2 h^4
-f^(4)/4!); where kinks of the discrete curve move the peak the margin covers
-it: the estimate is that of every final interval itself (measured, not a
-bound). The loop stops at ``max_cases`` solves, and does not split an interval
-narrower than :data:`NARROWEST` of the range (a jump of the discrete curve);
-either way the table is written with the estimate it reached, and says
-it did not meet the tolerance.
+interval not yet accepted is tested at its midpoint m by one more solve: its
+miss is the largest of |f(m) - H(m)| (H the interval's cubic Hermite) and, at
+its quarter points, |H_fine - H| (H_fine the Hermite that adds m's value and
+slope: a slope at m that disagrees with H's reveals a feature the value alone
+can hide), and its estimate is :data:`MARGIN` times the miss. An interval whose
+estimate is above the tolerance is split at m (a node) and its halves are
+tested in turn; one whose estimate is within it is accepted as it is: the test
+point is not made a node. (It once was, the halves inheriting the whole's
+estimate, which a kink of the curve defeats: on the aluminium/steel pair near
+free rolling, where slip zones appear, the whole [-0.75, -0.5] met 5e-4 at its
+midpoint by cancellation and its half [-0.75, -0.625] then missed by 1.5e-3 at
+u = -0.70; and at mu = 0.1023 the value at the midpoint of [-1, -0.5] alone
+was met to 1.1e-4 while u = -0.94 missed by 4.6e-3, which the slope's quarter-
+point test sees: 6e-4.) For a smooth piece the midpoint is where a cubic
+Hermite's error peaks (t^2 (1 - t)^2 h^4 f^(4)/4!) and its slope error is nil;
+where kinks of the discrete curve move the peak the margin covers it. The
+estimate is that of every final interval itself (measured, not a bound). The
+loop stops at ``max_cases`` solves, and does not split an interval narrower
+than :data:`NARROWEST` of the range (a jump of the discrete curve); either way
+the table is written with the estimate it reached, and says it did not meet
+the tolerance.
 
 A second axis, the coefficient of friction (``--mu LO:HI``,
-:func:`build_friction`): rows of the sampling above (each to half the
-tolerance) at friction nodes, with the slope of Q/(mu P) in mu at fixed u from
-the sensitivities, (dQ/dmu + (xi/mu) dQ/dxi)/(mu P) - Q/(mu^2 P) (xi = u mu a/R*
-moves with mu); between two rows a cubic Hermite in mu (the rows' slopes in mu
-interpolated linearly in u). Each interval in mu is tested by its whole
-mid-row, compared at every node of the three rows and between them: split (the
-mid-row kept) while :data:`MARGIN` times its largest miss is above the other half
-of the tolerance, else accepted with that estimate (the mid-row only tested, as in u).
+:func:`build_friction`): rows of the sampling above (each to
+:data:`ROW_SHARE` of the tolerance) at friction nodes, with the slope of
+Q/(mu P) in mu at fixed u from the sensitivities, (dQ/dmu + (xi/mu) dQ/dxi)/(mu
+P) - Q/(mu^2 P) (xi = u mu a/R* moves with mu); between two rows a cubic
+Hermite in mu (the rows' slopes in mu interpolated linearly in u). Each
+interval in mu is tested by a whole mid-row, the same way at every node of the
+three rows and between them (its miss: the mid-row against the interpolant, and
+at the quarter rows the interpolants through the mid-row against it): split
+(the mid-row kept) while :data:`MARGIN` times the miss is above the rest of the
+tolerance, else accepted with that estimate (the mid-row only tested, as in u).
 Carter's law depends on u alone (the decoupled problem is homogeneous in mu and
 xi): its slopes in mu vanish and the first rows pass. The rows of one pass (the
 first ones, then the mid-rows of every open interval) are independent: they are
@@ -76,6 +83,10 @@ MAX_CASES = 200
 #: (measured: the largest error of 33 points per interval 1.32 to 1.43 times the midpoint error,
 #: Carter at 60 elements and tolerance 1e-3).
 MARGIN = 2.0
+#: The share of a two-axis table's tolerance given to its rows in u (the rest to the interpolation in
+#: mu): a row's cost grows slowly as its tolerance falls (like tol^-1/4 on smooth pieces, tol^-1/2 at
+#: kinks), the rows in mu like 1/tol (the kinks in mu make the cubic Hermite first order there).
+ROW_SHARE = 1.0 / 3.0
 #: Intervals narrower than this fraction of the range are not split: the discrete curve jumps there
 #: (an active-set change with two solutions side by side: measured on the aluminium/steel friction
 #: table, which bisected such intervals down to 3e-16 until its budget ran out). They are kept with
@@ -124,11 +135,16 @@ def _row(
         mu_slope = (dq_dmu + creep / mu * dq_dxi) / (mu * load) - ratio / mu
         solved[u] = (ratio, slope, mu_slope, State(result.p_n, result.p_t, overlap, creep))
 
-    def predicted(a: float, b: float, u: float) -> float:
-        nodes = np.array([a, b])
-        values = np.array([solved[a][0], solved[b][0]])
-        slopes = np.array([solved[a][1], solved[b][1]])
-        return float(hermite(nodes, values, slopes, np.array(u)))
+    def miss(a: float, b: float, m: float) -> float:
+        """max(|f(m) - H(m)|, |H_fine - H| at the quarter points), H the interval's Hermite and H_fine
+        the one that adds m's value and slope (module docstring)."""
+        points = np.array([m, 0.75 * a + 0.25 * b, 0.25 * a + 0.75 * b])
+
+        def interpolant(keys: list[float]) -> np.ndarray:
+            values, slopes = (np.array([solved[k][i] for k in keys]) for i in (0, 1))
+            return hermite(np.array(keys), values, slopes, points)
+
+        return float(np.max(np.abs(interpolant([a, m, b]) - interpolant([a, b]))))
 
     for u in np.linspace(lo, hi, max(initial, 2)):
         solve_at(float(u))
@@ -148,7 +164,7 @@ def _row(
             continue
         m = 0.5 * (a + b)
         solve_at(m)
-        error = MARGIN * abs(solved[m][0] - predicted(a, b, m))
+        error = MARGIN * miss(a, b, m)
         if error > tolerance:
             pending += [(a, m), (m, b)]
         else:  # accepted as it is: the midpoint only tested (module docstring)
@@ -239,9 +255,9 @@ def build_friction(
     journal: table_rows.Journal | None = None,
 ) -> tuple[FrictionTable, list[np.ndarray]]:
     """The two-axis table of ``case`` over u in [lo, hi] and mu in [mu_low, mu_high] (module docstring):
-    rows of the one-axis sampling (to half the tolerance) at friction nodes, refined in mu by whole
-    mid-rows until the interpolant between two rows predicts the mid-row (its Hermite in u, at every
-    node of the three rows and between them) within the other half. The estimate of the whole is the
+    rows of the one-axis sampling (to :data:`ROW_SHARE` of the tolerance) at friction nodes, refined in
+    mu by whole mid-rows until the interpolant between two rows predicts the mid-row (its Hermite in u,
+    at every node of the three rows and between them) within the rest. The estimate of the whole is the
     sum of the largest in u and in mu. The rows of a pass are solved in ``workers`` processes (one:
     here), finished rows taken from and written to ``journal`` (:mod:`rolling_cli.study.table_rows`).
     Returns the table and each row's interval estimates."""
@@ -250,7 +266,7 @@ def build_friction(
     t0 = time.perf_counter()
     the_plan, system = _prepared(case, lo, hi, tolerance, mu_high, use_cache)
     _PREPARED[case_to_toml(case), use_cache] = (the_plan, system)
-    task = functools.partial(row_task, case, lo, hi, 0.5 * tolerance, initial, use_cache)
+    task = functools.partial(row_task, case, lo, hi, ROW_SHARE * tolerance, initial, use_cache)
     runner: contextlib.AbstractContextManager[table_rows.RowSolver]
     if workers > 1:
         runner = table_rows.in_workers(workers, task, journal)
@@ -290,10 +306,9 @@ def _refine_in_mu(solve_rows, mu_low: float, mu_high: float, initial_rows: int, 
     rows: dict[float, Row] = {}
     solves = 0
 
-    def solve(friction: list[float]) -> list[Row]:
+    def solve(friction: list[float]) -> list[Row]:  # whole rows (a pass may end past max_cases)
         nonlocal solves
-        budget = min(MAX_CASES, max((max_cases - solves) // len(friction), 2))
-        out = solve_rows(friction, budget)
+        out = solve_rows(friction, MAX_CASES)
         solves += sum(row.cases for row in out)
         return out
 
@@ -317,15 +332,27 @@ def _refine_in_mu(solve_rows, mu_low: float, mu_high: float, initial_rows: int, 
         for (a, b), row in zip(batch, solve([0.5 * (a + b) for a, b in batch]) if batch else [], strict=True):
             middle, low, high = _plain(row), _plain(rows[a]), _plain(rows[b])
             u = _probes(low, high, middle)
-            predicted = between(low, high, u, np.full(u.size, middle.mu))
-            error = MARGIN * float(np.max(np.abs(hermite(middle.nodes, middle.values, middle.slopes, u) - predicted)))
-            if error > 0.5 * tolerance:  # split: the mid-row is kept
+            error = MARGIN * _miss_in_mu(low, middle, high, u)
+            if error > (1.0 - ROW_SHARE) * tolerance:  # split: the mid-row is kept
                 rows[row.mu] = row
                 pending += [(a, row.mu), (row.mu, b)]
             else:  # accepted as it is: the mid-row only tested (module docstring)
                 accepted[(a, b)] = error
     friction = sorted(rows)
     return rows, [accepted[(a, b)] for a, b in zip(friction[:-1], friction[1:], strict=True)], solves
+
+
+def _miss_in_mu(low: TableRow, middle: TableRow, high: TableRow, u: np.ndarray) -> float:
+    """The interval (low, high)'s miss in mu at the probes u (module docstring): the mid-row against the
+    interpolant between low and high, and at the quarter rows the interpolants through the mid-row
+    (its values and slopes in mu) against it."""
+    quarter = 0.25 * (high.mu - low.mu)
+    whole = between(low, high, u, np.full(u.size, middle.mu))
+    out = float(np.max(np.abs(hermite(middle.nodes, middle.values, middle.slopes, u) - whole)))
+    for below, above, mu in ((low, middle, low.mu + quarter), (middle, high, high.mu - quarter)):
+        at = np.full(u.size, mu)
+        out = max(out, float(np.max(np.abs(between(below, above, u, at) - between(low, high, u, at)))))
+    return out
 
 
 def _probes(*rows: TableRow) -> np.ndarray:
