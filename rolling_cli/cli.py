@@ -279,19 +279,6 @@ def _span(text: str, option: str = "--range", what: str = "xi R*/(mu a)") -> tup
     return lo, hi
 
 
-def _table_journal(out: str, case, lo: float, hi: float, mu_range, tolerance: float, resume: bool, overwrite: bool):
-    """The journal of a two-axis table's finished rows (:mod:`rolling_cli.study.table_rows`): continued
-    with ``resume``, replaced with ``overwrite``, else refused when one is there."""
-    from .study import table_rows
-    from .study.tabulate import INITIAL
-
-    path = table_rows.journal_path(out)
-    if os.path.exists(path) and not (resume or overwrite):
-        raise CaseError(f"{path}: an interrupted table's rows are there; allowed: --resume, or --overwrite")
-    head = table_rows.header(case, lo, hi, mu_range[0], mu_range[1], tolerance, INITIAL)
-    return table_rows.Journal(path, head, resume)
-
-
 @main.command()
 @verbosity_options
 @click.argument("case_file", type=click.Path(dir_okay=False))
@@ -335,7 +322,10 @@ def table(ctx, case_file, output, tolerance, span, friction, workers, resume, ov
                 with outputs.atomic_file(out, replace=overwrite) as tmp:
                     table_file.write(tmp, made, intervals)
             else:
-                journal = _table_journal(out, case, lo, hi, mu_range, tolerance, resume, overwrite)
+                from .study.table_rows import open_journal
+                from .study.tabulate import INITIAL
+
+                journal = open_journal(out, case, (lo, hi), mu_range, tolerance, INITIAL, resume, overwrite)
                 try:
                     made, errors = build_friction(
                         case, lo, hi, *mu_range, tolerance, use_cache=not no_cache, workers=workers, journal=journal

@@ -75,6 +75,19 @@ def header(case: Case, lo: float, hi: float, mu_low: float, mu_high: float, tole
     }
 
 
+def open_journal(
+    output: str, case: Case, span: tuple[float, float], friction: tuple[float, float], tolerance: float,
+    initial: int, resume: bool, overwrite: bool,
+) -> Journal:  # fmt: skip
+    """The journal of a two-axis table's finished rows beside ``output``: continued with ``resume``,
+    replaced with ``overwrite``, else refused (CaseError) when one is there. ``initial``: the nodes of
+    a row's first pass (part of the header)."""
+    path = journal_path(output)
+    if os.path.exists(path) and not (resume or overwrite):
+        raise CaseError(f"{path}: an interrupted table's rows are there; allowed: --resume, or --overwrite")
+    return Journal(path, header(case, *span, *friction, tolerance, initial), resume)
+
+
 class Journal:
     """The rows finished so far (``done``: mu -> row) and the file they are appended to."""
 
