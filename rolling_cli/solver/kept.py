@@ -20,7 +20,10 @@ which is usually that matrix:
   t = S^-1 (f_extra - C A^-1 f), x = A^-1 f - X t: two more triangular solves.
 
 Anything else is assembled and factorised afresh
-(:func:`~rolling_cli.solver.reduced.reduced_system`).
+(:func:`~rolling_cli.solver.reduced.reduced_system`). The store holds one LU
+for the process: solves in threads (a Dask worker's) may take each other's,
+which the checks above refuse (the contact system is compared by identity),
+so a sensitivity then assembles its own; never a wrong one.
 """
 
 from __future__ import annotations
