@@ -41,7 +41,7 @@ Hermite in mu (the rows' slopes in mu interpolated linearly in u). Each
 interval in mu is tested by a whole mid-row, the same way at every node of the
 three rows and between them (its miss: the mid-row against the interpolant, and
 at the quarter rows the interpolants through the mid-row against it): split
-(the mid-row kept) while :data:`MARGIN` times the miss is above the rest of the
+(the mid-row kept) while :data:`MARGIN_MU` times the miss is above the rest of the
 tolerance, else accepted with that estimate (the mid-row only tested, as in u).
 Carter's law depends on u alone (the decoupled problem is homogeneous in mu and
 xi): its slopes in mu vanish and the first rows pass. The rows of one pass (the
@@ -78,11 +78,15 @@ log = logging.getLogger(__name__)
 #: Default nodes of the first pass and largest number of solves.
 INITIAL = 5
 MAX_CASES = 200
-#: The estimate of an interval is this multiple of its midpoint error: a cubic Hermite's error peaks at
-#: the midpoint only on a smooth piece; the discrete curve's kinks (zone changes) move the peak
-#: (measured: the largest error of 33 points per interval 1.32 to 1.43 times the midpoint error,
-#: Carter at 60 elements and tolerance 1e-3).
-MARGIN = 2.0
+#: The estimate of an interval in u is this multiple of its miss: a cubic Hermite's error peaks at the
+#: midpoint only on a smooth piece; the discrete curve's kinks (zone changes) move the peak (measured:
+#: the largest error of 15 to 33 points per interval 1.32 to 1.43 times the miss on Carter at 60
+#: elements, up to 2.17 times on the aluminium/steel pair at tolerance 1e-3, interval [-1, -0.875]).
+MARGIN = 3.0
+#: The same in mu (the miss is the largest over every node of three rows and between them): 2 (the
+#: aluminium/steel creepage x mu table at 1e-3: estimate 9.8e-4, largest error of 200 random direct
+#: solves 4.2e-4).
+MARGIN_MU = 2.0
 #: The share of a two-axis table's tolerance given to its rows in u (the rest to the interpolation in
 #: mu): a row's cost grows slowly as its tolerance falls (like tol^-1/4 on smooth pieces, tol^-1/2 at
 #: kinks), the rows in mu like 1/tol (the kinks in mu make the cubic Hermite first order there).
@@ -332,7 +336,7 @@ def _refine_in_mu(solve_rows, mu_low: float, mu_high: float, initial_rows: int, 
         for (a, b), row in zip(batch, solve([0.5 * (a + b) for a, b in batch]) if batch else [], strict=True):
             middle, low, high = _plain(row), _plain(rows[a]), _plain(rows[b])
             u = _probes(low, high, middle)
-            error = MARGIN * _miss_in_mu(low, middle, high, u)
+            error = MARGIN_MU * _miss_in_mu(low, middle, high, u)
             if error > (1.0 - ROW_SHARE) * tolerance:  # split: the mid-row is kept
                 rows[row.mu] = row
                 pending += [(a, row.mu), (row.mu, b)]
