@@ -7,6 +7,11 @@ inside the table's domain against the table (largest |Delta Q/(mu P)|), and the
 interpolant's time per query in one vectorised call of 10^4 points (median of 20).
 
     python benchmarks/bench_table.py [--points 1000] [--cases carter,dissimilar_q75]
+
+With ``--mu LO:HI`` the tables are two-axis (creepage x mu; ``--workers N`` passes on), and the
+random points are drawn in (u, mu).
+
+    python benchmarks/bench_table.py --mu 0.1:0.3 --points 200 --cases dissimilar_q75 [--workers 2]
 """
 
 from __future__ import annotations
@@ -36,7 +41,12 @@ def main() -> None:
     parser.add_argument("--points", type=int, default=1000)
     parser.add_argument("--cases", default="carter,dissimilar_q75")
     parser.add_argument("--tolerance", type=float, default=1e-3)
+    parser.add_argument("--mu", default=None, help="LO:HI: two-axis tables (creepage x mu)")
+    parser.add_argument("--workers", type=int, default=1)
     args = parser.parse_args()
+    if args.mu is not None:
+        two_axes(args)
+        return
     logging.disable(logging.WARNING)
     print("| case | solves | nodes | error estimate | rollc table [s] | points | max abs error | query [us] |")
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
@@ -71,6 +81,45 @@ def main() -> None:
         print(
             f"| {name} | {made.attributes['cases']} | {made.nodes.size} | {made.error_bound:.2e} | {wall:.2f} "
             f"| {args.points} | {worst:.2e} | {per_query:.2f} |",
+            flush=True,
+        )
+
+
+def two_axes(args) -> None:
+    """Two-axis tables: the whole ``rollc table --mu`` process, then direct solves at random (u, mu)."""
+    print("| case | rows | solves | workers | error estimate | met | rollc table [s] | points | max abs error |")
+    print("|---|---:|---:|---:|---:|---|---:|---:|---:|")
+    for name in args.cases.split(","):
+        path = ROOT / "cases" / f"{name}.toml"
+        with tempfile.TemporaryDirectory() as tmp:
+            out = f"{tmp}/t.h5"
+            t0 = time.perf_counter()
+            done = subprocess.run(
+                [sys.executable, "-m", "rolling_cli", "table", str(path), "-o", out, "-q", "--no-cache",
+                 "--tolerance", str(args.tolerance), "--mu", args.mu, "--workers", str(args.workers)],
+                env={**os.environ, "PYTHONPATH": str(ROOT)},
+            )  # fmt: skip
+            wall = time.perf_counter() - t0
+            if done.returncode not in (0, 1):  # 1: written, the estimate not met
+                raise SystemExit(f"rollc table failed ({done.returncode})")
+            made = table.load(out)
+        case = load_case(path)
+        the_plan, system = pipeline.prepare(case)
+        (lo, hi), (mu_lo, mu_hi) = made.domain
+        rng = np.random.default_rng(1)
+        worst = 0.0
+        for u, mu in zip(rng.uniform(lo, hi, args.points), rng.uniform(mu_lo, mu_hi, args.points), strict=True):
+            creep = float(u * mu * the_plan.half_width / the_plan.radius)
+            point = dataclasses.replace(
+                case, friction=dataclasses.replace(case.friction, mu=float(mu)),
+                tangential=type(case.tangential)(creep=creep),
+            )  # fmt: skip
+            direct = pipeline.solve(point, system=system).q_over_mu_p
+            worst = max(worst, abs(float(made(u, mu)) - direct))
+        attrs = made.attributes
+        print(
+            f"| {name} | {len(made.rows)} | {attrs['cases']} | {args.workers} | {made.error_bound:.2e} "
+            f"| {attrs['met']} | {wall:.1f} | {args.points} | {worst:.2e} |",
             flush=True,
         )
 

@@ -290,10 +290,14 @@ def _span(text: str, option: str = "--range", what: str = "xi R*/(mu a)") -> tup
     "--range", "span", default="-1:1", show_default=True, help="LO:HI of the creepage normalised as xi R*/(mu a)."
 )
 @click.option("--mu", "friction", default=None, help="LO:HI: a second axis, the coefficient of friction.")
+@click.option(
+    "--workers", type=click.IntRange(1, 256), default=1, show_default=True, help="Worker processes (rows of --mu)."
+)
+@click.option("--resume", is_flag=True, help="Take the rows of --mu an interrupted run finished (TABLE.rows).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing table file.")
 @click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
 @click.pass_context
-def table(ctx, case_file, output, tolerance, span, friction, overwrite, no_cache):
+def table(ctx, case_file, output, tolerance, span, friction, workers, resume, overwrite, no_cache):
     """Tabulate Q/(mu P) against xi R*/(mu a) for CASE_FILE, sampled adaptively (rolling_cli.table.load reads it)."""
 
     def action():
@@ -318,10 +322,21 @@ def table(ctx, case_file, output, tolerance, span, friction, overwrite, no_cache
                 with outputs.atomic_file(out, replace=overwrite) as tmp:
                     table_file.write(tmp, made, intervals)
             else:
-                made, errors = build_friction(case, lo, hi, *mu_range, tolerance, use_cache=not no_cache)
-                shape = f"{len(made.rows)} rows of mu = {mu_range[0]:g} .. {mu_range[1]:g}, each"
-                with outputs.atomic_file(out, replace=overwrite) as tmp:
-                    table_file.write_friction(tmp, made, errors)
+                from .study.table_rows import open_journal
+                from .study.tabulate import INITIAL
+
+                journal = open_journal(out, case, (lo, hi), mu_range, tolerance, INITIAL, resume, overwrite)
+                try:
+                    made, errors = build_friction(
+                        case, lo, hi, *mu_range, tolerance, use_cache=not no_cache, workers=workers, journal=journal
+                    )
+                    shape = f"{len(made.rows)} rows of mu = {mu_range[0]:g} .. {mu_range[1]:g}, each"
+                    with outputs.atomic_file(out, replace=overwrite) as tmp:
+                        table_file.write_friction(tmp, made, errors)
+                except KeyboardInterrupt:
+                    journal.close()
+                    _fail(f"interrupted: the finished rows are in {journal.path} (continue with --resume)", 130)
+                journal.close(remove=True)
         if not ctx.obj["quiet"]:
             attrs = made.attributes
             click.echo(

@@ -382,6 +382,11 @@ class Units:
 @dataclass(frozen=True)
 class Output:
     file: str | None = spec(None, doc="result file (default: the case name with .h5)", kind="str", max_length=4096)
+    layer_derivative: bool = spec(
+        False,
+        doc="also dQ/db and dxi/db of the layered body (b its thickness): two more BEM builds at b +- 1e-4 b",
+        kind="bool",
+    )
 
 
 @dataclass(frozen=True)

@@ -3,6 +3,7 @@ provenance and convergence record."""
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -22,7 +23,7 @@ from ..solver.strategies import Solution
 from ..solver.system import ContactSystem
 from ..stresses import power
 from . import effects as effects_mod
-from .planning import Level, Plan, _free_creep, coupling_strength, hertz_applies
+from .planning import Level, Plan, _free_creep, build_contact_system, coupling_strength, hertz_applies
 
 log = logging.getLogger(__name__)
 
@@ -110,7 +111,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
-    attrs.update(_sensitivities(case, system, state, converged, half_width))
+    attrs.update(_sensitivities(case, system, state, converged, half_width, the_plan))
     attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
     if is_viscoelastic(a) or is_viscoelastic(b):  # rolling resistance, pressure shift, hysteresis (none if elastic)
         from ..model import resistance
@@ -243,7 +244,9 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
     return out
 
 
-def _sensitivities(case: Case, system: ContactSystem, state: State, converged: bool, half_width: float) -> dict:
+def _sensitivities(
+    case: Case, system: ContactSystem, state: State, converged: bool, half_width: float, the_plan: Plan
+) -> dict:
     """The derivatives of a converged solve (:mod:`rolling_cli.solver.sensitivity`) and their time;
     NaN for a failed one (its state is no solution) or a singular final matrix (a warning).
 
@@ -262,14 +265,40 @@ def _sensitivities(case: Case, system: ContactSystem, state: State, converged: b
     if from_case(case.friction, case.rolling).velocity_dependent:
         log.debug("no sensitivities: the friction law depends on the slip speed")
         converged = False
+    layer = _layer_systems(case, the_plan) if converged and case.output.layer_derivative else None
     if converged:
         force = case.tangential.control()[0] != "creep"
         try:
             similar = hertz_applies(case)
-            found = sensitivity.sensitivities(system, case.friction.mu, state, force, similar, half_width)
+            found = sensitivity.sensitivities(system, case.friction.mu, state, force, similar, half_width, layer)
         except np.linalg.LinAlgError as err:
             log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
     out = found.as_dict()
+    if case.output.layer_derivative:  # asked for: NaN where not computed
+        out.setdefault("dQ_db", math.nan)
+        out.setdefault("dxi_db", math.nan)
     if viscoelastic.bodies(case):
         out.update(dict.fromkeys(("dQ_dP", "dxi_dP", "da_dP", "dp0_dP"), math.nan))
     return {**out, "time_sensitivities": time.perf_counter() - t0}
+
+
+#: Relative step of the layer thickness's central difference (:mod:`rolling_cli.solver.sensitivity`).
+LAYER_STEP = 1e-4
+
+
+def _layer_systems(case: Case, the_plan: Plan) -> tuple | None:
+    """(the contact system at b + h, at b - h, h) of the case's one layered body on the plan's grid
+    (h = :data:`LAYER_STEP` b; built outside the disk cache), or None (a warning) when the case has
+    not exactly one layered body."""
+    labels = [label for label in ("A", "B") if getattr(case.bodies, label).kind == "layered"]
+    if len(labels) != 1:
+        log.warning("no dQ/db: output.layer_derivative needs exactly one layered body (the case has %d)", len(labels))
+        return None
+    body = getattr(case.bodies, labels[0])
+    h = LAYER_STEP * float(body.layer_thickness)
+
+    def at(thickness: float) -> ContactSystem:
+        bodies = dataclasses.replace(case.bodies, **{labels[0]: dataclasses.replace(body, layer_thickness=thickness)})
+        return build_contact_system(dataclasses.replace(case, bodies=bodies), the_plan, use_cache=False)
+
+    return at(float(body.layer_thickness) + h), at(float(body.layer_thickness) - h), h

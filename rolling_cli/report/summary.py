@@ -40,7 +40,11 @@ def _sensitivity_lines(attrs, length: str, stress: str, line: str) -> list[str]:
         f"dxi/dP = {_fmt(attrs.get('dxi_dP'))} {per_load}",
         f"{_INDENT}da/dP = {_fmt(attrs.get('da_dP'))} {length}/({line}), "
         f"dp0/dP = {_fmt(attrs.get('dp0_dP'))} {stress}/({line})",
-    ]
+    ] + (
+        [f"{_INDENT}layer: dQ/db = {_fmt(attrs['dQ_db'])} {stress}, dxi/db = {_fmt(attrs.get('dxi_db'))} 1/{length}"]
+        if "dQ_db" in attrs
+        else []
+    )
 
 
 def _resistance_lines(attrs, length: str, line: str) -> list[str]:

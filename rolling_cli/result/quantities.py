@@ -14,7 +14,8 @@ Units are keys into the result's unit names (:attr:`Result.units`):
 ``"moment/length"`` (a moment per unit axial length, force/length times length), ``"1"``
 (dimensionless: ratios, counts, flags, relative values), ``"s"`` (wall time),
 the quotients ``"1/(force/length)"``, ``"length/(force/length)"``,
-``"stress/(force/length)"`` (derivatives with respect to a load);
+``"stress/(force/length)"`` (derivatives with respect to a load), ``"1/(length)"``
+(a creepage's derivative with respect to a length);
 ``None`` for text and booleans, which carry no unit.
 """
 
@@ -39,6 +40,7 @@ UNIT_KEYS = (
     "1/(force/length)",
     "length/(force/length)",
     "stress/(force/length)",
+    "1/(length)",
     None,
 )
 
@@ -292,6 +294,12 @@ class Sensitivities:
     )
     dp0_dP: float | None = quantity(
         "d(peak pressure max|p_n|)/dP, the case's tangential control held", "stress/(force/length)"
+    )
+    dQ_db: float | None = quantity(
+        "dQ/d(layer thickness b) at fixed creepage, mu and P (central difference of the influence in b)", "stress"
+    )
+    dxi_db: float | None = quantity(
+        "dxi/d(layer thickness b) at fixed Q, mu and P (central difference of the influence in b)", "1/(length)"
     )
 
 

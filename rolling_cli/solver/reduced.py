@@ -12,6 +12,7 @@ generalised Newton step of :mod:`rolling_cli.solver.formulation`, and
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -19,7 +20,7 @@ import numpy as np
 
 from ..influence.toeplitz import apply_sum
 from .formulation import Evaluation, Layout, NodeSets, Problem, State, node_sets
-from .linalg import block, solve_dense
+from .linalg import Solver, block, factorise, solve_dense
 
 if TYPE_CHECKING:  # the matrix-free path is imported only when a system uses it (start-up time)
     from .matrix_free import ReducedOperator
@@ -34,10 +35,13 @@ class ReducedSystem:
     the tangential force equations divided by the zone length. ``creep_column`` is
     d rhs / d xi when the creepage is held (the sensitivity of the solution to xi).
     ``matrix`` is dense, or a :class:`~rolling_cli.solver.matrix_free.ReducedOperator`
-    on a matrix-free system.
+    on a matrix-free system, or None where only ``factor`` solves it; ``factor`` its kept LU when it
+    has one (:mod:`rolling_cli.solver.kept`),
+    ``force_row_n`` the force row's entries on p_n (coupled force control with a target
+    that moves with p_n), part of what fixes the matrix.
     """
 
-    matrix: np.ndarray | ReducedOperator
+    matrix: np.ndarray | ReducedOperator | None
     rhs: np.ndarray
     sets: NodeSets
     coef: np.ndarray | None
@@ -45,6 +49,8 @@ class ReducedSystem:
     col_overlap: int | None
     col_creep: int | None
     creep_column: np.ndarray | None = None
+    force_row_n: np.ndarray | None = None
+    factor: Solver | None = None
 
 
 def layout(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> Layout:
@@ -162,8 +168,9 @@ def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluatio
     else:
         matrix = dense_matrix(problem, lay)
     return ReducedSystem(
-        matrix, lay.rhs, sets, lay.coef, lay.p_t_slip, lay.col_overlap, lay.col_creep, lay.creep_column
-    )
+        matrix, lay.rhs, sets, lay.coef, lay.p_t_slip, lay.col_overlap, lay.col_creep, lay.creep_column,
+        lay.force_row_n,
+    )  # fmt: skip
 
 
 def state_from_solution(problem: Problem, state: State, reduced: ReducedSystem, z: np.ndarray) -> State:
@@ -219,9 +226,15 @@ def friction_rows(problem: Problem, reduced: ReducedSystem, state: State) -> np.
     dp_t[sets.slip] = -sets.sigma[sets.slip] * state.p_n[sets.slip]
     nc = sets.contact.size if problem.normal else 0
     ns = sets.stick.size
-    if problem.normal and system.S_nt is not None:
-        out[:nc] = system.penalty_n * (system.S_nt @ dp_t)[sets.contact]
-    out[nc : nc + ns] = system.penalty_t * (system.B_tt @ dp_t)[sets.stick]
+    slip = sets.slip
+    if system.matrix_free:
+        if problem.normal and system.S_nt is not None:
+            out[:nc] = system.penalty_n * (system.S_nt @ dp_t)[sets.contact]
+        out[nc : nc + ns] = system.penalty_t * (system.B_tt @ dp_t)[sets.stick]
+    else:  # dense blocks: only the slip columns (dp_t vanishes elsewhere)
+        if problem.normal and system.S_nt is not None:
+            out[:nc] = system.penalty_n * (block(system.S_nt, sets.contact, slip) @ dp_t[slip])
+        out[nc : nc + ns] = system.penalty_t * (block(system.B_tt, sets.stick, slip) @ dp_t[slip])
     if reduced.col_creep is not None:
         out[reduced.col_creep] = float(system.weights @ dp_t) / system.zone_length
     return out
@@ -239,8 +252,12 @@ def solve_reduced(
     (:func:`~rolling_cli.solver.matrix_free.forcing_target`), starting from that iterate.
     ``record`` (optional dict) receives a Krylov solve's counts (history columns).
     """
+    if reduced.factor is not None:
+        return reduced.factor.solve(rhs)
     if isinstance(reduced.matrix, np.ndarray):
         return solve_dense(reduced.matrix, rhs)
+    if reduced.matrix is None:
+        raise ValueError("a reduced system without its matrix solves only through its factor")
     if residual is None:
         return reduced.matrix.solve(rhs, record=record)
     from .matrix_free import forcing_target
@@ -252,14 +269,39 @@ def newton_point(problem: Problem, state: State, ev: Evaluation, record: dict | 
     """The Newton point: the solution of the linear system of the current node states (exact, or
     on a matrix-free system to the forcing target of :func:`solve_reduced`). ``record`` receives
     the linear solve's counts (Krylov only), for the step's history row. With a velocity-dependent
-    friction law: :func:`rolling_cli.solver.velocity.newton_point`."""
+    friction law: :func:`rolling_cli.solver.velocity.newton_point`. A dense matrix's LU is kept
+    (the last one only) for :func:`rolling_cli.solver.kept.kept_system`: the same numbers as an LU made and dropped."""
+    global _KEPT
     if problem.friction is not None and problem.tangential:
         from . import velocity
 
         return velocity.newton_point(problem, state, ev, record)
+    _KEPT = None  # the previous step's matrix and LU go before this one is built (peak memory)
     reduced = reduced_system(problem, state, node_sets(problem, state, ev), ev)
+    if isinstance(reduced.matrix, np.ndarray):
+        reduced.factor = factorise(reduced.matrix)
+        if reduced.factor is not None:
+            _KEPT = (weakref.ref(problem.system), problem.mode, reduced)
     dz = solve_reduced(reduced, reduced.rhs, ev.relative_residual, record)
     return state_from_solution(problem, state, reduced, dz)
+
+
+#: The last dense Newton matrix with its LU: (weak reference to its system, the mode, the system);
+#: taken by :func:`rolling_cli.solver.kept.kept_system`.
+_KEPT: tuple | None = None
+
+
+def take_kept() -> tuple | None:
+    """The kept (system reference, mode, :class:`ReducedSystem` with its ``factor``), released."""
+    global _KEPT
+    kept, _KEPT = _KEPT, None
+    return kept
+
+
+def release() -> None:
+    """Drop the kept matrix and LU without using them."""
+    global _KEPT
+    _KEPT = None
 
 
 def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:

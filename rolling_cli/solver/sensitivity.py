@@ -7,8 +7,13 @@ z(theta) = A(theta)^-1 b(theta) for every parameter theta, so
 
     A dz/dtheta = -d(A z - b)/dtheta   (z held)
 
-is one more linear solve per parameter with the final matrix (a dense matrix
-is factorised once for all of them; no Newton iteration). At fixed node states
+is one more linear solve per parameter with the final matrix (no Newton
+iteration). A dense matrix is the Newton's last one when the converged state
+has that step's node states (the usual case): its LU, kept by
+:func:`rolling_cli.solver.reduced.newton_point`, solves every parameter's column
+(:func:`rolling_cli.solver.kept.kept_system`: no assembly, no factorisation;
+an overlap-controlled solve's matrix bordered by the load row and overlap column);
+otherwise it is assembled and factorised once for all of them. At fixed node states
 A and b are affine in each parameter (xi and P enter b, mu the slip tractions
 p_t = -mu sigma p_n, Q the force row), so d(A z - b)/dtheta is the difference
 of the system's residual at theta + h and at theta, exact for any h: h is
@@ -63,16 +68,27 @@ over that span of P, so da/dP = 1/2 sum over both ends |x_j - x_k| / span
 (within 6 % of Hertz's a/(2P) on 100 half-plane elements, the error of one
 node in the span). ``dp0_dP`` there is the derivative of max|p_n| at the node
 that holds it.
+
+Layer thickness (``[output] layer_derivative``, issue 24): the thickness b of a
+layered body enters only the influence blocks (S_nn, S_nt, B_tt, B_tn), which
+have no closed form in b. Their derivative is taken as a central difference
+of the contact systems built at b + h and b - h on the same grid (h = 1e-4 b:
+truncation ~h^2, the BEM's rounding over 2h ~1e-10 relative), so dQ/db (xi, mu,
+P held) and dxi/db (Q, mu, P held) are the implicit derivatives of the solve
+with a differenced influence (a derivative of the influence, not of the
+solve: no re-solve). The grid is the case's: a re-planned case (whose zone
+follows the measured contact width) would also move the grid.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, fields
 
 import numpy as np
 
-from . import reduced
+from . import kept, reduced
 from .formulation import Problem, State, evaluate, node_sets, traction_scales
 from .linalg import solve_dense
 from .system import ContactSystem
@@ -97,10 +113,16 @@ class Sensitivities:
     dxi_dP: float
     da_dP: float
     dp0_dP: float
+    dQ_db: float = math.nan
+    dxi_db: float = math.nan
 
     def as_dict(self) -> dict[str, float]:
-        """The derivatives by name (the result quantities of the same names)."""
-        return {f.name: float(getattr(self, f.name)) for f in fields(self)}
+        """The derivatives by name (the result quantities of the same names); the thickness ones only
+        when computed (not NaN)."""
+        out = {f.name: float(getattr(self, f.name)) for f in fields(self)}
+        if math.isnan(self.dQ_db) and math.isnan(self.dxi_db):
+            del out["dQ_db"], out["dxi_db"]
+        return out
 
 
 #: The derivatives of a case without them (no contact, frictionless tangential ones): all NaN.
@@ -114,6 +136,7 @@ def sensitivities(
     force_control: bool,
     self_similar: bool = False,
     half_width: float | None = None,
+    layer: tuple[ContactSystem, ContactSystem, float] | None = None,
 ) -> Sensitivities:
     """The derivatives of the converged ``state`` of ``system`` (module docstring).
 
@@ -121,13 +144,16 @@ def sensitivities(
     the tangential force (else the creepage), ``self_similar`` whether rollc's
     mapping is homogeneous in the load (a load on two half-spaces; the
     P-derivatives then come from the homogeneity; ``half_width`` the contact half-width
-    [length] when known, else measured here). A frictionless case has only
+    [length] when known, else measured here). ``layer``: (the contact system at b + h, at
+    b - h, h [length]) of a layered body of thickness b on the same grid: the derivatives along b
+    too (module docstring, "Layer thickness"). A frictionless case has only
     the normal derivatives (the tangential ones NaN). Raises
     ``numpy.linalg.LinAlgError`` when the final reduced matrix is singular.
     """
     w = system.weights
     load = float(-(w @ state.p_n))
     if not load > 0.0:
+        reduced.release()
         return UNDEFINED
     q = float(w @ state.p_t)
     tangential = mu > 0.0
@@ -138,16 +164,10 @@ def sensitivities(
     problem = Problem(system, mode, mu, load=load, force=force)
     ev = evaluate(problem, state, traction_scales(problem, state))
     sets = node_sets(problem, state, ev)
-    base = reduced.reduced_system(problem, state, sets, ev)
+    base = kept.kept_system(problem, state, sets, ev)
     names = ([] if self_similar else ["P"]) + (["Q" if force else "xi", "mu"] if tangential else [])
-    tangents = {}
-    if names:
-        columns = np.column_stack([_column(problem, state, sets, ev, base, name) for name in names])
-        if isinstance(base.matrix, np.ndarray):
-            dz = _solve_blocks(problem, base, columns)
-        else:
-            dz = np.column_stack([reduced.solve_reduced(base, columns[:, k]) for k in range(len(names))])
-        tangents = {name: _tangent(problem, state, base, dz[:, k], name) for k, name in enumerate(names)}
+    names += ["b"] if layer is not None and tangential else []
+    tangents = _tangents(problem, state, sets, ev, base, names, layer)
     peak_node = int(np.argmin(state.p_n))
     if self_similar:  # homogeneity: P dF/dP = degree(F) F - (Q or xi/2) dF/d(Q or xi) (module docstring)
         tangent = tangents.get("Q" if force else "xi")
@@ -170,10 +190,61 @@ def sensitivities(
     if force:
         dxi_dq, dxi_dmu = tangents["Q"].d_creep, tangents["mu"].d_creep
         dxi_dp = (0.5 * state.creep - q * dxi_dq) / load if self_similar else tangents["P"].d_creep
-        return _from_creep_derivatives(dxi_dq, dxi_dmu, dxi_dp, da, dp0)
+        return _thickness(_from_creep_derivatives(dxi_dq, dxi_dmu, dxi_dp, da, dp0), tangents.get("b"), True)
     dq_dxi, dq_dmu = tangents["xi"].d_force, tangents["mu"].d_force
     dq_dp = (q - 0.5 * state.creep * dq_dxi) / load if self_similar else tangents["P"].d_force
-    return _from_force_derivatives(dq_dxi, dq_dmu, dq_dp, da, dp0)
+    return _thickness(_from_force_derivatives(dq_dxi, dq_dmu, dq_dp, da, dp0), tangents.get("b"), False)
+
+
+def _tangents(problem: Problem, state: State, sets, ev, base: reduced.ReducedSystem, names: list[str], layer) -> dict:
+    """The :class:`Tangent` of each parameter in ``names``: its column, all solved with one LU."""
+    if not names:
+        return {}
+    columns = np.column_stack([
+        _thickness_column(problem, state, sets, base, layer) if name == "b" else
+        _column(problem, state, sets, ev, base, name)
+        for name in names
+    ])  # fmt: skip
+    if base.factor is not None:  # the Newton's last LU (one getrs for every column)
+        dz = base.factor.solve(columns).reshape(columns.shape)
+    elif isinstance(base.matrix, np.ndarray):
+        dz = _solve_blocks(problem, base, columns)
+    else:
+        dz = np.column_stack([reduced.solve_reduced(base, columns[:, k]) for k in range(len(names))])
+    return {name: _tangent(problem, state, base, dz[:, k], name) for k, name in enumerate(names)}
+
+
+def _thickness_column(problem: Problem, state: State, sets, base: reduced.ReducedSystem, layer) -> np.ndarray:
+    """-d(A z - b)/d(layer thickness) at fixed z and node states: the elastic rows' change,
+    r_n (dS_nn p_n + dS_nt p_t) on the contact rows and r_t (dB_tt p_t + dB_tn p_n) on the
+    adhesion rows, each block's derivative the central difference of the systems at b +- h (the
+    load and force rows do not hold the influence). NaN on operator (matrix-free) blocks."""
+    plus, minus, h = layer
+    system = problem.system
+    out = np.zeros(base.rhs.size)
+    if not isinstance(plus.S_nn, np.ndarray) or not isinstance(minus.S_nn, np.ndarray):
+        return np.full(base.rhs.size, math.nan)
+
+    def product(name: str, values: np.ndarray) -> np.ndarray:
+        high, low = getattr(plus, name), getattr(minus, name)
+        return np.zeros(system.size) if high is None or low is None else ((high - low) / (2.0 * h)) @ values
+
+    nc = sets.contact.size if problem.normal else 0
+    ns = sets.stick.size
+    if problem.normal:
+        out[:nc] = -system.penalty_n * (product("S_nn", state.p_n) + product("S_nt", state.p_t))[sets.contact]
+    out[nc : nc + ns] = -system.penalty_t * (product("B_tt", state.p_t) + product("B_tn", state.p_n))[sets.stick]
+    return out
+
+
+def _thickness(found: Sensitivities, tangent: Tangent | None, force: bool) -> Sensitivities:
+    """``found`` with the thickness derivatives of ``tangent`` (the other one by the implicit
+    function theorem: dQ/db = -(dxi/db)/(dxi/dQ) at fixed xi, dxi/db = -(dQ/db)/(dQ/dxi) at fixed Q)."""
+    if tangent is None:
+        return found
+    if force:
+        return dataclasses.replace(found, dxi_db=tangent.d_creep, dQ_db=-tangent.d_creep * found.dQ_dxi)
+    return dataclasses.replace(found, dQ_db=tangent.d_force, dxi_db=-tangent.d_force * found.dxi_dQ)
 
 
 def _solve_blocks(problem: Problem, base: reduced.ReducedSystem, columns: np.ndarray) -> np.ndarray:
