@@ -121,6 +121,19 @@ def test_overlap_control_refused(tmp_path):
     assert result.exit_code == 2 and "normal.overlap" in result.output
 
 
+def test_a_slip_speed_law_is_refused(tmp_path):
+    """The table's Hermite interpolation needs the creep slopes, which a slip-speed law does not
+    record: refused in one line naming friction.law (before: a table of NaN, exit 0)."""
+    data = case_dict(CARTER)
+    data["friction"] = {"law": "exponential", "mu_static": 0.3, "mu_kinetic": 0.18, "slip_velocity_half": 100.0}
+    data.setdefault("rolling", {})["speed"] = 45000.0
+    out = tmp_path / "t.h5"
+    result = run_cli("table", write_case(tmp_path, data), "-o", out)
+    assert result.exit_code == 2, result.output
+    assert "friction.law = 'exponential'" in result.output and result.output.count("\n") == 1
+    assert not out.exists()
+
+
 def test_cli_writes_a_loadable_table(tmp_path):
     """``rollc table`` writes the file ``table.load`` reads, and says how many nodes and solves."""
     case = write_case(tmp_path, CARTER)

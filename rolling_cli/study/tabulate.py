@@ -113,6 +113,13 @@ def check_request(case: Case, lo: float, hi: float, tolerance: float, source: st
         )
     if not case.friction.mu > 0.0:
         raise CaseError("friction.mu = 0: allowed: mu > 0 (Q/(mu P) needs friction)", file=source, key="friction.mu")
+    if case.friction.law != "constant":
+        raise CaseError(
+            f"friction.law = {case.friction.law!r}: a table interpolates with the creep slopes, which a slip-speed "
+            'law does not record yet; allowed: law = "constant"',
+            file=source,
+            key="friction.law",
+        )
 
 
 def _row(
@@ -169,7 +176,7 @@ def _row(
         m = 0.5 * (a + b)
         solve_at(m)
         error = MARGIN * miss(a, b, m)
-        if error > tolerance:
+        if not error <= tolerance:  # a NaN estimate (no slope recorded) is never accepted
             pending += [(a, m), (m, b)]
         else:  # accepted as it is: the midpoint only tested (module docstring)
             accepted[(a, b)] = error
@@ -337,7 +344,7 @@ def _refine_in_mu(solve_rows, mu_low: float, mu_high: float, initial_rows: int, 
             middle, low, high = _plain(row), _plain(rows[a]), _plain(rows[b])
             u = _probes(low, high, middle)
             error = MARGIN_MU * _miss_in_mu(low, middle, high, u)
-            if error > (1.0 - ROW_SHARE) * tolerance:  # split: the mid-row is kept
+            if not error <= (1.0 - ROW_SHARE) * tolerance:  # split (also on NaN): the mid-row is kept
                 rows[row.mu] = row
                 pending += [(a, row.mu), (row.mu, b)]
             else:  # accepted as it is: the mid-row only tested (module docstring)
