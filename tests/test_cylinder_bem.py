@@ -31,7 +31,7 @@ def _michell(grid, radius, inner, poisson, sigma_rr, sigma_rt, samples=2**18):
         sigma_rr(s), sigma_rt(s), radius, inner, E / (2.0 * (1.0 + poisson)), poisson
     )
     order = np.argsort(theta)
-    angles = grid.x / radius  # the nodes' arc lengths (on the chords: within (h/R)^2 of the arc's)
+    angles = grid.x / radius  # the nodes' arc lengths (on quadratic arcs through points of the circle)
     return np.interp(angles, theta[order], -u_r[order]), np.interp(angles, theta[order], u_t[order])
 
 

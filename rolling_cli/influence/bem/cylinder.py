@@ -5,10 +5,10 @@ contact at the top, around (0, 0); x along the surface, y up, the body below.
 A contact grid coordinate s [length] is the arc length along the outer circle
 from the top towards +x, at the angle theta = s / R (clockwise from +y).
 
-Mesh (:func:`annulus_mesh`): straight quadratic elements whose geometric
-nodes lie on the circles. The outer circle carries the contact grid's
-discontinuous elements (edges at the grid's angles, so the contact nodes sit
-on the chords of the contact arc) and continuous traction-free elements graded
+Mesh (:func:`annulus_mesh`): curved quadratic (isoparametric) elements whose
+three geometric nodes lie on the circles. The outer circle carries the contact
+grid's discontinuous elements (edges at the grid's angles; the contact nodes
+lie on the quadratic arcs through points of the circle) and continuous traction-free elements graded
 away from the zone by arc length, up to ``largest``; the bore's elements have
 their displacement prescribed (zero: bonded to the shaft, which is the
 reference of the body's motion) and are graded from the top, starting at the
