@@ -296,6 +296,14 @@ def _check_body_shape(body: schema.Body, label: str, file: str | None) -> None:
             'a flat has no finite cross-section (shape = "cylinder")',
             "a finite radius",
         )
+    if viscoelastic.is_viscoelastic(body) and body.poisson is not None and not body.poisson < 0.5:
+        raise _fail(
+            file,
+            f"{key}.poisson",
+            body.poisson,
+            "a viscoelastic finite cylinder's history uses Michell's modes, which need nu < 0.5",
+            "a number < 0.5 (e.g. 0.499 for rubber)",
+        )
     if body.kind == "layered":
         if body.inner_radius is not None:
             raise _fail(
