@@ -85,11 +85,17 @@ def test_two_routes_of_the_periodic_history_agree(b):
     grid = ContactGrid(1.5, 30, 2)
     radius, nu = 10.0, 0.3
     kernels = vc.mode_kernels(vc.MODES, radius, 5.0, nu)
-    exact = vc.exact_offsets(grid, radius, 5.0, nu, kernels)
+    exact, (slow,) = vc.offsets(grid, radius, 5.0, nu, (b,), kernels)
     remainder = kernels - vc.halfplane_modes(vc.MODES, radius, nu)
-    slow = vc._slow_history(grid, radius, nu, b, remainder)
     n = np.arange(kernels.shape[0])
-    wrapped = vc.mode_offsets(grid, radius, kernels / (1.0 - 1j * n * b / radius)[:, None]) - exact
+    if abs(b) <= vc.SLOW * radius:  # the other route, forced
+        wrapped = vc.mode_offsets(grid, radius, kernels / (1.0 - 1j * n * b / radius)[:, None]) - exact
+    else:
+        factor = 1j * n * b / radius / (1.0 - 1j * n * b / radius)
+        wrapped, slow = (
+            slow,
+            vc._closed_slow(grid, radius, nu, b) + vc.mode_offsets(grid, radius, remainder * factor[:, None]),
+        )
     for k in range(3):
         assert np.abs(slow[k] - wrapped[k]).max() < 2e-6 * np.abs(exact[k]).max()
 
@@ -109,8 +115,7 @@ def _boundary_power(compliance, grid: ContactGrid, p: np.ndarray, t: np.ndarray,
     return direction * float(np.sum(half * wg * (-pg * dw + tg * du)))
 
 
-@pytest.mark.parametrize("speed", [0.1, 1.0, 10.0, 100.0])
-def test_body_power_is_the_modal_loss(speed):
+def test_body_power_is_the_modal_loss():
     """The viscoelastic annulus's compliance (R = 20, bore 10, nu = 0.3, SLS E_g = 2 E_r = 20,
     tau_c = 1) under a given smooth load (a skewed Hertz pressure on |s| < 1 and a shear): the
     boundary power of its real-space history equals the loss compliance summed mode by mode
@@ -124,14 +129,15 @@ def test_body_power_is_the_modal_loss(speed):
     x = grid.x
     p = -np.sqrt(np.clip(1.0 - x**2, 0.0, None)) * (1.0 + 0.3 * x)
     t = 0.2 * p * (x + 0.5)
-    reference = annulus.hysteresis_power(
-        x.reshape(-1, 3)[:, 1], 0.5 * grid.element_length, p, t, radius, inner, nu, model.compliances,
-        model.lengths(speed),
-    )  # fmt: skip
-    assert reference > 0.0
-    for direction in (-1, 1):
-        compliance = vc.body_compliance(elastic, grid, model, radius, inner, speed, direction)
-        assert _boundary_power(compliance, grid, p, t, direction) == pytest.approx(reference, rel=5e-3)
+    for speed in (0.1, 10.0, 100.0):  # slow path, wrapped at |b| = R/2 and 5 R
+        reference = annulus.hysteresis_power(
+            x.reshape(-1, 3)[:, 1], 0.5 * grid.element_length, p, t, radius, inner, nu, model.compliances,
+            model.lengths(speed),
+        )  # fmt: skip
+        assert reference > 0.0
+        for direction in (-1, 1):
+            compliance = vc.body_compliance(elastic, grid, model, radius, inner, speed, direction)
+            assert _boundary_power(compliance, grid, p, t, direction) == pytest.approx(reference, rel=5e-3)
 
 
 # --- solutions ------------------------------------------------------------------------------------
@@ -207,7 +213,7 @@ def test_large_radius_is_the_viscoelastic_half_plane():
     assert float(-finite.p_n.min()) == pytest.approx(float(-half.p_n.min()), rel=5e-3)
 
 
-@pytest.mark.parametrize("speed", [0.1, 1.0, 10.0])
+@pytest.mark.parametrize("speed", [1.0, 10.0])
 def test_energy_balance_frictionless(speed):
     """A frictionless roller (R = 200, a/R ~ 0.02, nu = 0.49) on a rigid flat: |V| M / R equals the
     hysteresis of the annulus (mode by mode) within 0.5 % (measured 0.01-0.4 %). The shafts' power

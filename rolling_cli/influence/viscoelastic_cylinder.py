@@ -63,7 +63,7 @@ from .halfplane import _length_scale, _toeplitz_gather, log_offsets, sign_offset
 from .viscoelastic import history_lengths, quadratic_offsets
 from .viscoelastic_layer import upstream_filter
 
-__all__ = ["mode_kernels", "exact_offsets", "history_offsets", "body_compliance"]
+__all__ = ["mode_kernels", "offsets", "exact_offsets", "history_offsets", "body_compliance"]
 
 #: Modes of the remainder's and the wrapped history's series.
 MODES = 1 << 14
@@ -72,6 +72,8 @@ SLOW = 0.125
 #: Complex phases formed at once by :func:`mode_offsets` (bounds a temporary to 32 MB).
 _PHASES = 1 << 21
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
+#: Gauss-Legendre points per panel in t of the periodic correction's history (smooth on |b| t ~ R).
+_T_X, _T_W = np.polynomial.legendre.leggauss(8)
 
 
 def mode_kernels(modes: int, radius: float, inner_radius: float, poisson: float) -> np.ndarray:
@@ -163,66 +165,76 @@ def _element_correction(y: np.ndarray, grid: ContactGrid, radius: float, poisson
     return half * np.einsum("...gb,g,gk->...bk", values, _GL_W, shapes)
 
 
-def exact_offsets(grid: ContactGrid, radius: float, inner_radius: float, poisson: float, kernels=None) -> np.ndarray:
-    """K_M per element offset, shape (3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) [length^2 at unit modulus]:
-    the line half-plane's closed forms, the periodic correction and the remainder's modes."""
-    _check(grid)
-    if kernels is None:
-        kernels = mode_kernels(MODES, radius, inner_radius, poisson)
+def _closed_exact(grid: ContactGrid, radius: float, poisson: float) -> np.ndarray:
+    """The periodic half-plane part of K_M per element offset: the line's closed forms and the
+    periodic correction, shape (3, 2 N_e - 1, 3, 3) [length^2 at unit modulus]."""
     scale = _length_scale(grid)
     kappa = 2.0 * (1.0 - poisson**2) / math.pi
     chi = 0.5 * (1.0 - 2.0 * poisson) * (1.0 + poisson)
     direct = kappa * log_offsets(grid, scale)
     out = np.stack([direct, -direct, chi * sign_offsets(grid)])
-    out += np.moveaxis(_element_correction(_offsets_y(grid), grid, radius, poisson, scale), 2, 0)
-    remainder = kernels - halfplane_modes(kernels.shape[0] - 1, radius, poisson)
-    return out + mode_offsets(grid, radius, remainder)
+    return out + np.moveaxis(_element_correction(_offsets_y(grid), grid, radius, poisson, scale), 2, 0)
 
 
-def _slow_history(grid: ContactGrid, radius: float, poisson: float, b: float, remainder: np.ndarray) -> np.ndarray:
-    """(C_b - 1)[K_M] for |b| <= SLOW R (module docstring), shape (3, 2 N_e - 1, 3, 3)."""
+def _closed_slow(grid: ContactGrid, radius: float, poisson: float, b: float) -> np.ndarray:
+    """The periodic half-plane part of (C_b - 1)[K_M] for |b| <= SLOW R: the line's closed form and
+    the periodic correction's history (Gauss-Legendre panels in t up to 0.75 L / |b| <= 45), shape
+    (3, 2 N_e - 1, 3, 3)."""
     scale = _length_scale(grid)
     kappa = 2.0 * (1.0 - poisson**2) / math.pi
     chi = 0.5 * (1.0 - 2.0 * poisson) * (1.0 + poisson)
     log_b, sign_b = quadratic_offsets(grid, b, scale)
     direct = kappa * (log_b - log_offsets(grid, scale))
     out = np.stack([direct, -direct, chi * (sign_b - sign_offsets(grid))])
-    # the periodic correction's history: Gauss-Legendre panels in t up to 0.75 L / |b| (<= 45)
     top = min(45.0, 1.5 * math.pi * radius / abs(b))
     breaks = np.unique(np.clip([0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, top], 0.0, top))
     lo, hi = breaks[:-1, None], breaks[1:, None]
-    t = (0.5 * (lo + hi) + 0.5 * (hi - lo) * _GL_X).ravel()
-    wt = (0.5 * (hi - lo) * _GL_W * np.exp(-0.5 * (lo + hi) - 0.5 * (hi - lo) * _GL_X)).ravel()
+    t = (0.5 * (lo + hi) + 0.5 * (hi - lo) * _T_X).ravel()
+    wt = (0.5 * (hi - lo) * _T_W * np.exp(-0.5 * (lo + hi) - 0.5 * (hi - lo) * _T_X)).ravel()
     y = _offsets_y(grid)
     moved = _element_correction(y[..., None] + b * t, grid, radius, poisson, scale)  # (o, a, t, blocks, k)
     here = _element_correction(y, grid, radius, poisson, scale)  # (o, a, blocks, k)
-    history = np.einsum("oatbk,t->boak", moved, wt) - np.moveaxis(here, 2, 0) * float(np.sum(wt))
-    n = np.arange(remainder.shape[0], dtype=float)
-    factor = 1j * n * b / radius / (1.0 - 1j * n * b / radius)
-    return out + history + mode_offsets(grid, radius, remainder * factor[:, None])
+    return out + np.einsum("oatbk,t->boak", moved, wt) - np.moveaxis(here, 2, 0) * float(np.sum(wt))
 
 
-def history_offsets(
-    grid: ContactGrid, radius: float, inner_radius: float, poisson: float, lengths, kernels=None, exact=None
-) -> np.ndarray:
-    """(C_b - 1)[K_M] per element offset for each history length b in ``lengths`` [length], shape
-    (b, 3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) [length^2 at unit modulus] (module docstring)."""
+def offsets(
+    grid: ContactGrid, radius: float, inner_radius: float, poisson: float, lengths, kernels=None
+) -> tuple[np.ndarray, np.ndarray]:
+    """(K_M, (C_b - 1)[K_M] for each b in ``lengths`` [length]) per element offset, shapes
+    (3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) and (b, 3, 2 N_e - 1, 3, 3) [length^2 at unit modulus]
+    (module docstring); every mode series in one pass over the phases."""
     _check(grid)
     if kernels is None:
         kernels = mode_kernels(MODES, radius, inner_radius, poisson)
     remainder = kernels - halfplane_modes(kernels.shape[0] - 1, radius, poisson)
     n = np.arange(kernels.shape[0], dtype=float)
-    out = []
+    lengths = [float(b) for b in lengths]
+    series = [remainder]
     for b in lengths:
-        b = float(b)
+        beta = b / radius
         if abs(b) <= SLOW * radius:
-            out.append(_slow_history(grid, radius, poisson, b, remainder))
-            continue
-        if exact is None:
-            exact = exact_offsets(grid, radius, inner_radius, poisson, kernels)
-        wrapped = kernels / (1.0 - 1j * n * b / radius)[:, None]
-        out.append(mode_offsets(grid, radius, wrapped) - exact)
-    return np.stack(out)
+            series.append(remainder * (1j * n * beta / (1.0 - 1j * n * beta))[:, None])
+        else:
+            series.append(kernels / (1.0 - 1j * n * beta)[:, None])
+    summed = mode_offsets(grid, radius, np.concatenate(series, axis=1))
+    exact = _closed_exact(grid, radius, poisson) + summed[0:3]
+    history = []
+    for k, b in enumerate(lengths, start=1):
+        part = summed[3 * k : 3 * k + 3]
+        history.append(part + _closed_slow(grid, radius, poisson, b) if abs(b) <= SLOW * radius else part - exact)
+    return exact, np.stack(history) if history else np.zeros((0,) + exact.shape)
+
+
+def exact_offsets(grid: ContactGrid, radius: float, inner_radius: float, poisson: float, kernels=None) -> np.ndarray:
+    """K_M per element offset, shape (3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) [length^2 at unit modulus]:
+    the line half-plane's closed forms, the periodic correction and the remainder's modes."""
+    return offsets(grid, radius, inner_radius, poisson, (), kernels)[0]
+
+
+def history_offsets(grid: ContactGrid, radius: float, inner_radius: float, poisson: float, lengths) -> np.ndarray:
+    """(C_b - 1)[K_M] per element offset for each history length b in ``lengths`` [length], shape
+    (b, 3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) [length^2 at unit modulus] (module docstring)."""
+    return offsets(grid, radius, inner_radius, poisson, lengths)[1]
 
 
 def _check(grid: ContactGrid) -> None:
@@ -255,16 +267,14 @@ def body_compliance(
     ]
     if not terms:
         return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
-    kernels = mode_kernels(MODES, radius, inner_radius, model.poisson)
-    exact = exact_offsets(grid, radius, inner_radius, model.poisson, kernels)
-    offsets_all = history_offsets(grid, radius, inner_radius, model.poisson, [b for _, b in terms], kernels, exact)
+    exact, offsets_all = offsets(grid, radius, inner_radius, model.poisson, [b for _, b in terms])
     exact_blocks = [_toeplitz_gather(grid, exact[k]) for k in (0, 1, 2, 2)]
     departure = [model.glassy_young * block - f for block, f in zip(blocks, exact_blocks, strict=True)]
     n = grid.size
     stacked = np.concatenate(departure, axis=1)
-    for (c, b), offsets in zip(terms, offsets_all, strict=True):
+    for (c, b), per_offset in zip(terms, offsets_all, strict=True):
         filtered = upstream_filter(np.asarray(elastic.x, dtype=float), b) @ stacked - stacked
-        history = [_toeplitz_gather(grid, offsets[block]) for block in (0, 1, 2)]
+        history = [_toeplitz_gather(grid, per_offset[block]) for block in (0, 1, 2)]
         for k, block in enumerate((0, 1, 2, 2)):
             out[k] = out[k] + c * (history[block] + filtered[:, k * n : (k + 1) * n])
     return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
