@@ -151,7 +151,7 @@ def hysteresis_power(
     poisson: float,
     compliances,
     lengths,
-    modes: int = 1 << 16,
+    modes: int | None = None,
 ) -> float:
     """Hysteresis power of a viscoelastic annulus on a rigid shaft in steady rolling, per unit |V|
     [force/length], from its loss compliance mode by mode (an independent route to the solver's
@@ -168,18 +168,23 @@ def hysteresis_power(
 
     L = 2 pi R, ell_i = |V| lambda_i [length] (``lengths``), c_i [1/stress] (``compliances``);
     the mean mode (n = 0) is steady and loses nothing. The terms fall like n^-3 (the tractions'
-    jumps between discontinuous elements): ``modes`` = 65536 cuts ~ (R / (modes h))^2 of it."""
+    jumps between discontinuous elements): ``modes`` (default 128 R / (the loaded span's half),
+    2048 to 2^17) cuts < 1e-5 of it (measured 3e-6 at R/a = 13, 2.5e-6 at 1000 with 65536 modes)."""
     from .layer_fourier import element_spectrum
 
     p_n, t = np.asarray(p_n, dtype=float), np.asarray(t, dtype=float)
     if not (np.any(p_n) or np.any(t)):
         return 0.0
+    if modes is None:
+        span = 0.5 * float(np.ptp(centres)) + half
+        modes = int(min(1 << 17, max(2048, 128.0 * radius / span)))
     scale = 2.0 * (1.0 + poisson) * radius  # R / G at unit modulus
     m = mode_responses(modes, inner_radius / radius, poisson)
     k_nn, k_tt, g = -scale * m[:, 0, 0], scale * m[:, 1, 1], -scale * m[:, 0, 1]  # K_nt = K_tn = i g
     q = np.arange(1, modes + 1) / radius
-    fn = element_spectrum(q, centres, half, p_n)
-    ft = element_spectrum(q, centres, half, t)
+    chunk = max(1, (1 << 20) // max(1, centres.size))  # wavenumbers per pass (bounds the phases to 16 MB)
+    fn = np.concatenate([element_spectrum(q[i : i + chunk], centres, half, p_n) for i in range(0, modes, chunk)])
+    ft = np.concatenate([element_spectrum(q[i : i + chunk], centres, half, t) for i in range(0, modes, chunk)])
     quad = -k_nn * np.abs(fn) ** 2 + k_tt * np.abs(ft) ** 2 + 2.0 * g * np.imag(np.conj(fn) * ft)
     total = 0.0
     for c, ell in zip(compliances, lengths, strict=True):
