@@ -51,6 +51,7 @@ element; the remainder decays like 1/n^2 (the curvature), summed over
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -76,11 +77,13 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
 _T_X, _T_W = np.polynomial.legendre.leggauss(8)
 
 
+@functools.lru_cache(maxsize=4)
 def mode_kernels(modes: int, radius: float, inner_radius: float, poisson: float) -> np.ndarray:
     """K(n), n = 0 .. ``modes``, shape (modes + 1, 3) complex, columns (nn, tt, nt) [length^2 at unit
     modulus]: the annulus's surface response to p_n, p_t = exp(i n s / R) in the arc frame of
     :mod:`.bem.cylinder` (w into the body, u_t along s; K_tn = K_nt by reciprocity), the kernel of a
-    point load being (1/L) sum_n K(n) exp(i n s / R), K(-n) = conj K(n). From Michell's modes:
+    point load being (1/L) sum_n K(n) exp(i n s / R), K(-n) = conj K(n) (memoised, read-only). From
+    Michell's modes:
     K_nn = -2 (1 + nu) R M_rr, K_tt = 2 (1 + nu) R M_tt, K_nt = -2i (1 + nu) R M_rt (R / G at E = 1)."""
     ratio = inner_radius / radius
     scale = 2.0 * (1.0 + poisson) * radius
@@ -91,6 +94,7 @@ def mode_kernels(modes: int, radius: float, inner_radius: float, poisson: float)
     out[1:, 0] = -scale * m[:, 0, 0]
     out[1:, 1] = scale * m[:, 1, 1]
     out[1:, 2] = -1j * scale * m[:, 0, 1]
+    out.flags.writeable = False  # memoised: every level and speed of a case shares it
     return out
 
 
