@@ -228,6 +228,19 @@ def test_energy_balance_frictionless(speed):
     assert r.hysteresis_power == pytest.approx(r.rolling_resistance_moment / 200.0, rel=5e-3)
 
 
+def test_reversed_rolling_mirrors_the_roller():
+    """sgn(V) = +1 mirrors the frictionless roller's pressure (1e-9 p_max: the solver's tolerance; the
+    mesh is its own mirror image) and keeps the rolling resistance; the pressure moves towards the
+    leading edge (+x for sgn(V) = -1)."""
+    data = _roller(10.0, **{"friction.mu": 0.0, "tangential.q_over_mu_p": None,
+                            "discretization.contact_elements": 30})  # fmt: skip
+    f = solve(load_case(data))
+    b = solve(load_case(case_dict(data, **{"rolling.direction": 1})))
+    np.testing.assert_allclose(b.p_n, f.p_n[::-1], atol=1e-9 * float(-f.p_n.min()))
+    assert b.rolling_resistance_coefficient == pytest.approx(f.rolling_resistance_coefficient, rel=1e-6)
+    assert f.pressure_centroid > 0.0 > b.pressure_centroid
+
+
 def test_covered_roller_elastic_and_viscoelastic():
     """A finite covered roller (kind = "layered", viscoelastic = true, shape = "cylinder", R = 10,
     cover 2): E_r = E_g is today's elastic covered roller to round-off, and rolling at V tau_c / a ~ 1
