@@ -292,7 +292,6 @@ def test_reversed_rolling_mirrors_the_cover():
         ({"bodies.A": {"kind": "viscoelastic", "radius": 100.0, "young": 5.0, "poisson": 0.3,
                        "relaxed_young": 2.0, "creep_time": 1.0}},
          'bodies.B.kind = "layered": a layer with a viscoelastic half-space'),
-        ({"bodies.B.shape": "cylinder"}, "a viscoelastic finite cylinder is not implemented"),
     ],
 )  # fmt: skip
 def test_bad_input_is_one_line_exit_2(tmp_path, dotted, expected):

@@ -276,7 +276,7 @@ def _check_body_keys(body: schema.Body, label: str, file: str | None) -> None:
 
 def _check_body_shape(body: schema.Body, label: str, file: str | None) -> None:
     """One body's ``shape`` and ``inner_radius``: none on a rigid body, a bore only on a finite
-    elastic cylinder (inside it), a finite radius, no viscoelastic finite cylinder."""
+    elastic or viscoelastic cylinder (inside it), a finite radius."""
     key = f"bodies.{label}"
     if body.rigid:
         if body.shape != "half-space":
@@ -288,14 +288,6 @@ def _check_body_shape(body: schema.Body, label: str, file: str | None) -> None:
         if body.inner_radius is not None:
             raise _fail(file, f"{key}.inner_radius", body.inner_radius, 'not used by shape = "half-space"', "remove it")
         return
-    if body.kind == "viscoelastic" or getattr(body, "viscoelastic", False):
-        raise _fail(
-            file,
-            f"{key}.shape",
-            body.shape,
-            "a viscoelastic finite cylinder is not implemented (the steady-rolling kernels are the half-plane's)",
-            '"half-space"',
-        )
     if math.isinf(body.radius):
         raise _fail(
             file,
@@ -303,6 +295,14 @@ def _check_body_shape(body: schema.Body, label: str, file: str | None) -> None:
             body.radius,
             'a flat has no finite cross-section (shape = "cylinder")',
             "a finite radius",
+        )
+    if viscoelastic.is_viscoelastic(body) and body.poisson is not None and not body.poisson < 0.5:
+        raise _fail(
+            file,
+            f"{key}.poisson",
+            body.poisson,
+            "a viscoelastic finite cylinder's history uses Michell's modes, which need nu < 0.5",
+            "a number < 0.5 (e.g. 0.499 for rubber)",
         )
     if body.kind == "layered":
         if body.inner_radius is not None:
@@ -392,7 +392,7 @@ def resolved_friction(case: schema.Case) -> schema.Case:
 
 
 def _check_shapes(case: schema.Case, file: str | None) -> None:
-    """``shape`` and ``inner_radius``: a finite cylinder is an elastic or layered body of finite
+    """``shape`` and ``inner_radius``: a finite cylinder is an elastic, viscoelastic or layered body of finite
     radius, its bore (elastic) inside it, its counterpart rigid or a finite cylinder of the same
     radius (the contact nodes of the two arcs then face each other), on the BEM."""
     for label in ("A", "B"):

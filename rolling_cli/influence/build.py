@@ -10,7 +10,9 @@
   measured from depth D) for an elastic body, the layer (thickness b, free
   length ``layer_length`` b beyond the zone on each side) for a layered one,
   with the steady-rolling history terms of :mod:`.viscoelastic_layer` when the
-  layer is viscoelastic (built with E = E_g, then weighted by J);
+  layer is viscoelastic (built with E = E_g, then weighted by J), or of
+  :mod:`.viscoelastic_cylinder` (periodic round the annulus) for a viscoelastic
+  finite cylinder or finite covered roller;
   none for a rigid body; one for two identical bodies. The pair is formed by
   :func:`~rolling_cli.influence.combine`.
 
@@ -66,7 +68,11 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
         else:
             inputs = bem_inputs(case, the_plan, body)
             found, origin[label] = _bem_body(inputs, use_cache)
-            if viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
+            if body.finite and from_body(body) is not None:  # periodic history round the annulus
+                found = _viscoelastic_cylinder(
+                    found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
+                )
+            elif viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
                 found = _viscoelastic_layer(
                     found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
                 )
@@ -234,6 +240,19 @@ def _viscoelastic_layer(elastic: Compliance, grid: ContactGrid, body, speed: flo
     if model is None:
         raise ValueError("not a viscoelastic body")
     return layer.body_compliance(elastic, grid, model, float(body.layer_thickness), speed, direction)
+
+
+def _viscoelastic_cylinder(elastic: Compliance, grid: ContactGrid, body, speed: float, direction: int) -> Compliance:
+    """A viscoelastic finite cylinder's compliance from its elastic BEM annulus (built with E = E_g)."""
+    from . import viscoelastic_cylinder
+
+    model = from_body(body)
+    if model is None:
+        raise ValueError("not a viscoelastic body")
+    shape = body.body_shape
+    return viscoelastic_cylinder.body_compliance(
+        elastic, grid, model, shape.radius, shape.inner_radius, speed, direction
+    )
 
 
 @functools.lru_cache(maxsize=8)

@@ -20,7 +20,9 @@ axial length:
   (:mod:`rolling_cli.references.hysteresis`, an independent route; quadratic
   elements enter as cell averages, :func:`quadratic_cells`); a viscoelastic
   layer adds its loss beyond the half-plane's
-  (:func:`rolling_cli.references.layer_fourier.remainder_power`).
+  (:func:`rolling_cli.references.layer_fourier.remainder_power`); a viscoelastic finite
+  cylinder's is its annulus's, mode by mode round the circle
+  (:func:`rolling_cli.references.annulus.hysteresis_power`).
 
 In steady state the shafts' power balances the losses: |V| M / R* =
 hysteresis + frictional power + xi Q |V| (the last the power of the speed
@@ -33,7 +35,7 @@ import math
 
 import numpy as np
 
-from ..references import hysteresis, layer_fourier
+from ..references import annulus, hysteresis, layer_fourier
 from . import viscoelastic
 
 #: Cells per quadratic element for the hysteresis (the Fourier formula takes piecewise-constant
@@ -78,9 +80,12 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) ->
         cells_n, cells_t = quadratic_cells(p_n), quadratic_cells(p_t)
     power = 0.0
     for label, model in viscoelastic.bodies(case).items():
+        body = getattr(case.bodies, label)
+        if body.finite:  # the annulus's loss mode by mode round the circle (quadratic elements)
+            power += _annulus_power(system, p_n, p_t if label == "A" else -np.asarray(p_t), body, model, speed)
+            continue
         t = cells_t if label == "A" else -cells_t
         power += hysteresis.body_power(h, cells_n, t, model.compliances, model.lengths(speed), model.poisson)
-        body = getattr(case.bodies, label)
         if viscoelastic.viscoelastic_layer(body):  # the layer's loss beyond the half-plane's (quadratic elements)
             half = 1.5 * float(system.spacing)
             centres = np.asarray(x, dtype=float).reshape(-1, 3)[:, 1]
@@ -98,3 +103,14 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) ->
         "pressure_shift": -d * centroid,
         "hysteresis_power": power,
     }
+
+
+def _annulus_power(system, p_n, t, body, model, speed: float) -> float:
+    """Hysteresis power per unit |V| [force/length] of a viscoelastic finite cylinder
+    (:func:`rolling_cli.references.annulus.hysteresis_power`), tractions p_n, t [stress] on it."""
+    shape = body.body_shape
+    centres = np.asarray(system.x, dtype=float).reshape(-1, 3)[:, 1]
+    return annulus.hysteresis_power(
+        centres, 1.5 * float(system.spacing), p_n, t, shape.radius, shape.inner_radius, model.poisson,
+        model.compliances, model.lengths(speed),
+    )  # fmt: skip

@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["mode_responses", "surface_displacement"]
+__all__ = ["mode_responses", "surface_displacement", "hysteresis_power"]
 
 
 def _basis(n: np.ndarray, rho: float, rho_i: float, k: float):
@@ -139,3 +139,56 @@ def surface_displacement(
     v_hat[0] = torsion * (-1j * t_hat[0])  # the mean shear, real
     scale = radius / shear
     return scale * np.fft.irfft(u_hat, m), scale * np.fft.irfft(v_hat, m)
+
+
+def hysteresis_power(
+    centres: np.ndarray,
+    half: float,
+    p_n,
+    t,
+    radius: float,
+    inner_radius: float,
+    poisson: float,
+    compliances,
+    lengths,
+    modes: int | None = None,
+) -> float:
+    """Hysteresis power of a viscoelastic annulus on a rigid shaft in steady rolling, per unit |V|
+    [force/length], from its loss compliance mode by mode (an independent route to the solver's
+    real-space history).
+
+    The piecewise-quadratic tractions p_n, t [stress] on the body (elements at ``centres`` [length]
+    of arc length along the outer circle, half-length ``half``; 3 nodes per element) have the
+    coefficients T(n) = (p~, t~)(n / R), f~(q) = int f exp(-i q s) ds; the elastic (unit-modulus)
+    response per mode, K(n) = (R/G at E = 1) times Michell's (:func:`mode_responses`), makes
+    D = diag(-1, 1) K(n) Hermitian, and the boundary power sgn(V) |V| int (-p_n w' + t u') ds
+    over the circle with J*(n) = J_g + sum_i c_i / (1 - i n b_i / R) is, by Parseval,
+
+        Pi / |V| = (2 / L) sum_{n >= 1} (n / R)^2 sum_i c_i ell_i / (1 + (n ell_i / R)^2) T^H D T,
+
+    L = 2 pi R, ell_i = |V| lambda_i [length] (``lengths``), c_i [1/stress] (``compliances``);
+    the mean mode (n = 0) is steady and loses nothing. The terms fall like n^-3 (the tractions'
+    jumps between discontinuous elements): ``modes`` (default 128 R / (the loaded span's half),
+    2048 to 2^17) cuts < 1e-5 of it (measured 3e-6 at R/a = 13, 2.5e-6 at 1000 with 65536 modes)."""
+    from .layer_fourier import element_spectrum
+
+    p_n, t = np.asarray(p_n, dtype=float), np.asarray(t, dtype=float)
+    if not (np.any(p_n) or np.any(t)):
+        return 0.0
+    if modes is None:
+        span = 0.5 * float(np.ptp(centres)) + half
+        modes = int(min(1 << 17, max(2048, 128.0 * radius / span)))
+    scale = 2.0 * (1.0 + poisson) * radius  # R / G at unit modulus
+    m = mode_responses(modes, inner_radius / radius, poisson)
+    k_nn, k_tt, g = -scale * m[:, 0, 0], scale * m[:, 1, 1], -scale * m[:, 0, 1]  # K_nt = K_tn = i g
+    q = np.arange(1, modes + 1) / radius
+    chunk = max(1, (1 << 20) // max(1, centres.size))  # wavenumbers per pass (bounds the phases to 16 MB)
+    fn = np.concatenate([element_spectrum(q[i : i + chunk], centres, half, p_n) for i in range(0, modes, chunk)])
+    ft = np.concatenate([element_spectrum(q[i : i + chunk], centres, half, t) for i in range(0, modes, chunk)])
+    quad = -k_nn * np.abs(fn) ** 2 + k_tt * np.abs(ft) ** 2 + 2.0 * g * np.imag(np.conj(fn) * ft)
+    total = 0.0
+    for c, ell in zip(compliances, lengths, strict=True):
+        if ell <= 0.0:
+            continue
+        total += c * ell * float(np.sum(q * q / (1.0 + (q * ell) ** 2) * quad))
+    return 2.0 * total / (2.0 * np.pi * radius)
