@@ -62,6 +62,22 @@ def test_factor_gives_numpy_solve_bits(monkeypatch):
         assert np.array_equal(factor.matrix, matrix)  # A itself is kept unchanged
 
 
+def test_without_numpy_lapack_the_solve_is_unchanged(monkeypatch):
+    """Another numpy build (no library found, or its check failed): nothing is kept, the Newton
+    solves with numpy.linalg.solve, and the result is the same bit for bit (the kept LU gives
+    numpy.linalg.solve's numbers, test above), sensitivities included up to their rounding."""
+    data = dissimilar(**{"discretization.contact_elements": 60, "tangential.q_over_mu_p": 0.6})
+    _, _, with_lapack = _recorded_newton(monkeypatch, data)
+    monkeypatch.setattr(lapack, "available", lambda: False)
+    assert linalg.factorise(np.eye(4)) is None
+    _, _, without = _recorded_newton(monkeypatch, data)
+    assert without.converged and without.iterations == with_lapack.iterations
+    for name in ("p_n", "p_t"):
+        assert np.array_equal(getattr(without, name), getattr(with_lapack, name))
+    assert without.creep == with_lapack.creep
+    assert without.dQ_dxi == pytest.approx(with_lapack.dQ_dxi, rel=1e-9)
+
+
 def test_singular_matrix_raises():
     """An exactly singular matrix: the solver's one-line LinAlgError, as numpy.linalg.solve gives."""
     with pytest.raises(np.linalg.LinAlgError, match="singular Newton system"):
