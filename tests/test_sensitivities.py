@@ -126,12 +126,14 @@ def test_finite_differences(capsys):
                     left_out.append(f"{k} {kind}: {checks}")
                     continue
                 assert is_finite(checks), (k, kind, force, checks)
+                held = 0  # the checks of this case actually compared (not skipped for a zone change)
                 for check in checks:
                     if check.pattern_changed:
                         changes.append(f"{k} {kind} {'force' if force else 'creep'} {check.name}")
                         continue
                     assert check.error <= TOLERANCE, (k, kind, force, check)
-                compared += 1
+                    held += 1
+                compared += held > 0
     finally:
         logging.disable(logging.NOTSET)
     with capsys.disabled():
@@ -240,6 +242,15 @@ def test_full_slip_free_rolling_and_frictionless():
     assert np.isnan(frictionless.dQ_dxi) and np.isnan(frictionless.dxi_dQ)
     assert frictionless.da_dP == pytest.approx(frictionless.contact_half_width / (2.0 * frictionless.normal_load))
     assert frictionless.dp0_dP == pytest.approx(frictionless.traction_scale / (2.0 * frictionless.normal_load))
+    # another route than the formula: central differences of whole re-solves at P (1 +- 1e-4); the
+    # half-space's grid scales with the Hertz a, so the recorded width moves smoothly with P: the
+    # difference's truncation is (h^2/6) a'''/a' = 1e-8 relative (a ~ P^1/2, h = 1e-4), rounding 1e-12/1e-4
+    load = frictionless.normal_load
+    widths = []
+    for factor in (1.0 + 1e-4, 1.0 - 1e-4):
+        data = case_dict(**{"friction.mu": 0.0, "tangential.q_over_mu_p": None, "normal.load": factor * load})
+        widths.append(pipeline.solve(load_case(data)).contact_half_width)
+    assert frictionless.da_dP == pytest.approx((widths[0] - widths[1]) / (2e-4 * load), rel=1e-6)
 
 
 def test_a_zone_change_within_the_step_is_reported():
