@@ -293,11 +293,12 @@ def _span(text: str, option: str = "--range", what: str = "xi R*/(mu a)") -> tup
 @click.option(
     "--workers", type=click.IntRange(1, 256), default=1, show_default=True, help="Worker processes (rows of --mu)."
 )
+@click.option("--scheduler", default=None, help="Rows of --mu on a Dask cluster: tcp://HOST:PORT or local:N.")
 @click.option("--resume", is_flag=True, help="Take the rows of --mu an interrupted run finished (TABLE.rows).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing table file.")
 @click.option("--no-cache", is_flag=True, help="Neither read nor write the on-disk BEM influence cache.")
 @click.pass_context
-def table(ctx, case_file, output, tolerance, span, friction, workers, resume, overwrite, no_cache):
+def table(ctx, case_file, output, tolerance, span, friction, workers, scheduler, resume, overwrite, no_cache):
     """Tabulate Q/(mu P) against xi R*/(mu a) for CASE_FILE, sampled adaptively (rolling_cli.table.load reads it)."""
 
     def action():
@@ -309,6 +310,11 @@ def table(ctx, case_file, output, tolerance, span, friction, workers, resume, ov
         _imported()
         lo, hi = _span(span)
         mu_range = _span(friction, "--mu", "mu") if friction is not None else None
+        if scheduler and (workers > 1 or mu_range is None):
+            raise CaseError(
+                f"--scheduler {scheduler} with {'--workers' if workers > 1 else 'one axis'}; allowed: --scheduler "
+                "with --mu (its rows are the tasks) and without --workers"
+            )
         case = load_case(case_file)
         check_request(case, lo, hi, tolerance, case_file)
         if mu_range is not None and not 0.0 < mu_range[0] < mu_range[1]:
@@ -328,7 +334,15 @@ def table(ctx, case_file, output, tolerance, span, friction, workers, resume, ov
                 journal = open_journal(out, case, (lo, hi), mu_range, tolerance, INITIAL, resume, overwrite)
                 try:
                     made, errors = build_friction(
-                        case, lo, hi, *mu_range, tolerance, use_cache=not no_cache, workers=workers, journal=journal
+                        case,
+                        lo,
+                        hi,
+                        *mu_range,
+                        tolerance,
+                        use_cache=not no_cache,
+                        workers=workers,
+                        journal=journal,
+                        scheduler=scheduler,
                     )
                     shape = f"{len(made.rows)} rows of mu = {mu_range[0]:g} .. {mu_range[1]:g}, each"
                     with outputs.atomic_file(out, replace=overwrite) as tmp:

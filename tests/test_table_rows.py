@@ -45,6 +45,22 @@ def test_workers_compute_the_serial_table(serial_table):
     assert made.attributes["cases"] == serial_table.attributes["cases"]
 
 
+def test_a_dask_cluster_computes_the_serial_table(serial_table):
+    """The rows on a two-worker local Dask cluster (--scheduler local:2): the serial table bit for bit."""
+    pytest.importorskip("distributed")
+    made, _ = tabulate.build_friction(load_case(DATA), *REQUEST, scheduler="local:2")
+    _same(made, serial_table)
+    assert made.attributes["cases"] == serial_table.attributes["cases"]
+
+
+def test_scheduler_needs_the_mu_axis(tmp_path):
+    """--scheduler distributes the rows of --mu: with one axis, or with --workers, a one-line refusal."""
+    case = write_case(tmp_path, DATA)
+    result = run_cli("table", case, "-o", tmp_path / "t.h5", "--scheduler", "local:2")
+    assert result.exit_code == 2 and "allowed: --scheduler with --mu" in result.output
+    assert result.output.count("\n") == 1 and not (tmp_path / "t.h5").exists()
+
+
 def test_resume_solves_only_the_missing_rows(serial_table, tmp_path, monkeypatch):
     """A journal cut after its first two rows (an interrupted run): the resumed build takes those two
     from it, solves the others (counted), and gives the serial table."""

@@ -160,28 +160,46 @@ def serial(task: Callable[[float, int], object], journal: Journal | None) -> Row
 
 
 @contextlib.contextmanager
+def on_cluster(scheduler: str, task: Callable[[float, int], object], journal: Journal | None) -> Iterator[RowSolver]:
+    """Rows as tasks of a Dask cluster (``scheduler``: tcp://HOST:PORT or local:N, as ``rollc sweep
+    --scheduler``; :func:`rolling_cli.study.distributed.cluster`), each finished row journalled as it
+    arrives; on any exception the pending rows are cancelled and the exception re-raised."""
+    from .distributed import cluster
+
+    with cluster(scheduler) as (pool, _):
+        yield skipping_done(_submitting(pool, task, journal, lambda: None), journal)
+
+
+def _submitting(pool, task: Callable[[float, int], object], journal: Journal | None, on_error) -> RowSolver:
+    """The row solver that submits one task per row to ``pool`` (a concurrent.futures executor) and
+    journals each row as it completes; ``on_error()`` runs before an exception propagates."""
+    import concurrent.futures
+
+    def rows(friction: list[float], budget: int) -> list:
+        futures = {pool.submit(task, mu, budget): mu for mu in friction}
+        out = {}
+        try:
+            for future in concurrent.futures.as_completed(futures):
+                out[futures[future]] = future.result()
+                if journal is not None:
+                    journal.add(out[futures[future]])
+        except BaseException:
+            for future in futures:
+                future.cancel()
+            on_error()
+            raise
+        return [out[mu] for mu in friction]
+
+    return rows
+
+
+@contextlib.contextmanager
 def in_workers(workers: int, task: Callable[[float, int], object], journal: Journal | None) -> Iterator[RowSolver]:
     """Rows as tasks of ``workers`` local processes (the sweep's pool, spawned with one BLAS thread
     each). Each finished row goes to the journal as soon as it arrives, so an interrupt keeps it; on
     any exception the workers are killed (a row is the unit of work) and the exception re-raised."""
-    import concurrent.futures
-
     from .sweep import _kill_stragglers
     from .workers import executor
 
     with blas.single_thread_environment(), executor(workers) as pool:
-
-        def rows(friction: list[float], budget: int) -> list:
-            futures = {pool.submit(task, mu, budget): mu for mu in friction}
-            out = {}
-            try:
-                for future in concurrent.futures.as_completed(futures):
-                    out[futures[future]] = future.result()
-                    if journal is not None:
-                        journal.add(out[futures[future]])
-            except BaseException:
-                _kill_stragglers(pool)
-                raise
-            return [out[mu] for mu in friction]
-
-        yield skipping_done(rows, journal)
+        yield skipping_done(_submitting(pool, task, journal, lambda: _kill_stragglers(pool)), journal)

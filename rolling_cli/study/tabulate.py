@@ -264,13 +264,14 @@ def build_friction(
     use_cache: bool = True,
     workers: int = 1,
     journal: table_rows.Journal | None = None,
+    scheduler: str | None = None,
 ) -> tuple[FrictionTable, list[np.ndarray]]:
     """The two-axis table of ``case`` over u in [lo, hi] and mu in [mu_low, mu_high] (module docstring):
     rows of the one-axis sampling (to :data:`ROW_SHARE` of the tolerance) at friction nodes, refined in
     mu by whole mid-rows until the interpolant between two rows predicts the mid-row (its Hermite in u,
     at every node of the three rows and between them) within the rest. The estimate of the whole is the
     sum of the largest in u and in mu. The rows of a pass are solved in ``workers`` processes (one:
-    here), finished rows taken from and written to ``journal`` (:mod:`rolling_cli.study.table_rows`).
+    here) or on the Dask cluster ``scheduler``, finished rows taken from and written to ``journal`` (:mod:`rolling_cli.study.table_rows`).
     Returns the table and each row's interval estimates."""
     if not 0.0 < mu_low < mu_high:
         raise CaseError(f"--mu = {mu_low!r}:{mu_high!r}: allowed: LO:HI with 0 < LO < HI", file=case.source)
@@ -279,7 +280,9 @@ def build_friction(
     _PREPARED[case_to_toml(case), use_cache] = (the_plan, system)
     task = functools.partial(row_task, case, lo, hi, ROW_SHARE * tolerance, initial, use_cache)
     runner: contextlib.AbstractContextManager[table_rows.RowSolver]
-    if workers > 1:
+    if scheduler:
+        runner = table_rows.on_cluster(scheduler, task, journal)
+    elif workers > 1:
         runner = table_rows.in_workers(workers, task, journal)
     else:
         runner = contextlib.nullcontext(table_rows.serial(task, journal))
