@@ -271,7 +271,8 @@ def build_friction(
     mu by whole mid-rows until the interpolant between two rows predicts the mid-row (its Hermite in u,
     at every node of the three rows and between them) within the rest. The estimate of the whole is the
     sum of the largest in u and in mu. The rows of a pass are solved in ``workers`` processes (one:
-    here) or on the Dask cluster ``scheduler``, finished rows taken from and written to ``journal`` (:mod:`rolling_cli.study.table_rows`).
+    here) or on the Dask cluster ``scheduler``, finished rows taken from and written to ``journal``
+    (:mod:`rolling_cli.study.table_rows`).
     Returns the table and each row's interval estimates."""
     if not 0.0 < mu_low < mu_high:
         raise CaseError(f"--mu = {mu_low!r}:{mu_high!r}: allowed: LO:HI with 0 < LO < HI", file=case.source)
