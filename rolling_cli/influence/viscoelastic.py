@@ -186,7 +186,17 @@ def psi_moments(a, top: int = 2) -> np.ndarray:
 
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
-_GL_MOMENTS = (_GL_W[:, None] * _GL_X[:, None] ** np.arange(3)).copy()  # (gauss, m): w_g xi_g^m
+
+
+def _rule(points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes on [-1, 1] and the moment weights w_g xi_g^m, shape (gauss, 3)."""
+    x, w = np.polynomial.legendre.leggauss(points)
+    return x, w[:, None] * x[:, None] ** np.arange(3)
+
+
+#: (upper |c|, rule) of :func:`phi_moments` beyond the element: n points where rho^(-2n) < 1e-17
+#: (rho >= 11.9 beyond |c| = 6: 8 points; >= 40 beyond 20: 6; >= 200 beyond 100: 4).
+_GL_TIERS = ((6.0, _rule(12)), (20.0, _rule(8)), (100.0, _rule(6)), (math.inf, _rule(4)))
 #: Breakpoints of the Gauss-Legendre panels of the exponential moments (e^-60 ~ 1e-26 beyond).
 _TAU_BREAKS = np.array([0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 60.0])
 
@@ -195,9 +205,10 @@ def phi_moments(c, beta: float) -> np.ndarray:
     """M_m(c) = int_{-1}^{1} xi^m Phi((c - xi) / beta) d xi [-], m = 0, 1, 2, for local coordinates c
     (shape c.shape + (3,)); beta = b / (half the element length). Near the element (|c| <= 2) by
     the antiderivatives (:func:`psi_moments`): M_m = beta sum_j C(m, j) c^(m-j) (-beta)^j
-    [Psi_j((c + 1)/beta) - Psi_j((c - 1)/beta)]; farther by 12-point Gauss-Legendre on the integrand,
-    analytic on the element (its branch point xi = c lies outside the Bernstein ellipse of parameter
-    3.7: error < 1e-14, as :mod:`rolling_cli.model.kernels`)."""
+    [Psi_j((c + 1)/beta) - Psi_j((c - 1)/beta)]; farther by Gauss-Legendre on the integrand,
+    analytic on the element: its branch point xi = c lies outside the Bernstein ellipse of parameter
+    rho = |c| + sqrt(c^2 - 1), so n points err by ~rho^(-2n): 12 points for 2 < |c| < 6 (rho 3.7:
+    < 1e-14, as :mod:`rolling_cli.model.kernels`), fewer farther (:data:`_GL_TIERS`, each < 1e-17)."""
     c = np.asarray(c, dtype=float)
     out = np.empty(c.shape + (3,))
     near = np.abs(c) <= 2.0
@@ -213,9 +224,13 @@ def phi_moments(c, beta: float) -> np.ndarray:
             out[near, m] = beta * total
     far = ~near
     if far.any():
-        cf = c[far]
-        values = phi((cf[:, None] - _GL_X[None, :]) / beta)  # (points, gauss)
-        out[far] = values @ _GL_MOMENTS
+        distance = np.abs(c)
+        lower = 2.0
+        for upper, (x, moments) in _GL_TIERS:
+            tier = (distance > lower) & (distance <= upper)
+            lower = upper
+            if tier.any():
+                out[tier] = phi((c[tier][:, None] - x[None, :]) / beta) @ moments  # (points, gauss) @ (gauss, m)
     return out
 
 
@@ -223,16 +238,22 @@ def exp_moments(c, beta: float) -> np.ndarray:
     """X_m(c) = int xi^m exp((c - xi) / beta) d xi over the part of [-1, 1] where (c - xi) / beta < 0
     (upstream of the target) [-], m = 0, 1, 2, shape c.shape + (3,). With tau = (xi - c) / beta >= 0,
     X_m = |beta| int (c + beta tau)^m e^-tau d tau, by 12-point Gauss-Legendre on the panels between
-    :data:`_TAU_BREAKS` (each panel's integrand is a polynomial times e^-tau: error < 1e-13), all
-    panels at once."""
+    :data:`_TAU_BREAKS` (each panel's integrand is a polynomial times e^-tau: error < 1e-13). The
+    element spans 2 / |beta| in tau, so only the panels it meets are integrated (one or two for a
+    history much longer than the elements), all points at once."""
     c = np.asarray(c, dtype=float)
     t1, t2 = (-1.0 - c) / beta, (1.0 - c) / beta
     lo = np.maximum(0.0, np.minimum(t1, t2))[..., None]
     hi = np.maximum(0.0, np.maximum(t1, t2))[..., None]
-    a = np.clip(_TAU_BREAKS[:-1], lo, hi)  # (..., panel)
-    b = np.clip(_TAU_BREAKS[1:], lo, hi)
+    last = _TAU_BREAKS.size - 2
+    first = np.clip(np.searchsorted(_TAU_BREAKS, lo, side="right") - 1, 0, last)  # the panel holding lo
+    slots = int(np.max(np.clip(np.searchsorted(_TAU_BREAKS, hi, side="left") - 1, 0, last) - first, initial=0)) + 1
+    panel = np.minimum(first + np.arange(slots), last)  # (..., slot); repeats of the last one are empty
+    a = np.clip(_TAU_BREAKS[panel], lo, hi)
+    b = np.clip(_TAU_BREAKS[panel + 1], lo, hi)
+    b = np.where(np.arange(slots) > last - first, a, b)  # a repeated last panel counts once
     half = 0.5 * (b - a)
-    tau = (0.5 * (a + b))[..., None] + half[..., None] * _GL_X  # (..., panel, gauss)
+    tau = (0.5 * (a + b))[..., None] + half[..., None] * _GL_X  # (..., slot, gauss)
     xi = c[..., None, None] + beta * tau
     weight = half[..., None] * _GL_W * np.exp(-tau)
     panels = np.stack([np.sum(weight, axis=-1), np.sum(weight * xi, axis=-1), np.sum(weight * xi * xi, axis=-1)])
