@@ -78,14 +78,9 @@ def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     q, w = layer_fourier.wavenumbers((top + 3) * step, thickness, lengths)
     r_nn, r_tt, g_r = layer_fourier.remainder(q, thickness, poisson)
     shapes = layer_fourier.quadratic_spectra(q, half)  # (q, 3)
-    columns = np.concatenate(
-        [
-            (w * (1j * q * b / (1.0 - 1j * q * b)) * r)[:, None] * shapes
-            for b in lengths
-            for r in (r_nn, r_tt, -1j * g_r)
-        ],
-        axis=1,
-    )
+    remainders = (r_nn, r_tt, -1j * g_r)
+    weighted = [w * (1j * q * b / (1.0 - 1j * q * b)) for b in lengths]  # the history's Lorentzian, per b
+    columns = np.concatenate([(f * r)[:, None] * shapes for f in weighted for r in remainders], axis=1)
     low = q * (top * step) <= TAYLOR_PHASE  # |j q h/3| <= TAYLOR_PHASE for every j: the series
     even, odd = _taylor_phases(q[low], columns[low], top, step)
     high = ~low
@@ -270,8 +265,11 @@ def body_compliance(
     for k, (block, f) in enumerate(zip(blocks, (0, 1, 2, 2), strict=True)):
         np.add(model.glassy_young * block, minus_f[f], out=stacked[:, k * n : (k + 1) * n])
     for (c, b), offsets in zip(terms, offsets_all[1:], strict=True):
-        filtered = apply_upstream_filter(np.asarray(elastic.x, dtype=float), b, stacked) - stacked
+        filtered = apply_upstream_filter(np.asarray(elastic.x, dtype=float), b, stacked)
+        filtered -= stacked
         history = [_toeplitz_gather(grid, offsets[block]) for block in (0, 1, 2)]
         for k, block in enumerate((0, 1, 2, 2)):
-            out[k] = out[k] + c * (history[block] + filtered[:, k * n : (k + 1) * n])
+            term = history[block] + filtered[:, k * n : (k + 1) * n]
+            term *= c
+            out[k] += term
     return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
