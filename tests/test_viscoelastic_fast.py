@@ -118,3 +118,20 @@ def test_cover_compliance_equals_the_old_one(speed, direction, elements):
     ref = old.body_compliance(elastic, grid, model, thickness, speed, direction)
     for name in ("S_nn", "S_tt", "S_nt", "S_tn"):
         assert _relative(getattr(new, name), getattr(ref, name)) < ROUND_OFF, name
+
+
+@pytest.mark.parametrize("n", [2, 40, 480])
+def test_small_wavenumber_spectrum_is_the_direct_sum(n):
+    """The hysteresis output's low wavenumbers by the exponential's series (k max x <= 1) against the
+    direct sums of cosines and sines it replaced, on the geometric panels of
+    :func:`~rolling_cli.references.hysteresis._spectrum`: both err by ~eps sum |p| (the tolerance
+    1e-13 of it; measured ~1e-16)."""
+    from rolling_cli.references import hysteresis
+
+    h = 2.0 / n
+    x = np.arange(n) * h
+    p = np.random.default_rng(n).standard_normal((n, 2))
+    k = 2.0 * np.pi / (n * h) * 0.5 ** np.arange(0.0, 30.0, 0.37)
+    phase = np.outer(k, x)
+    direct = np.cos(phase) @ p - 1j * (np.sin(phase) @ p)
+    assert np.max(np.abs(hysteresis._small_spectrum(k, x, p) - direct)) < 1e-13 * np.sum(np.abs(p))
