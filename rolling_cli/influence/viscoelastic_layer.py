@@ -88,18 +88,34 @@ def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     chunk = max(1, _PHASES // (top + 1))  # wavenumbers per block of phases (bounds the temporary)
     for lo in range(0, q.size, chunk):
         part = slice(lo, lo + chunk)
-        powers = np.empty((top + 1, q[part].size), dtype=complex)
-        powers[0] = 1.0
-        powers[1:] = np.exp(1j * q[part] * step)[None, :]
-        np.cumprod(powers, axis=0, out=powers)
-        even += powers.real @ columns[part].real
-        odd += powers.imag @ columns[part].imag
+        powers = _phase_powers(q[part] * step, top)
+        weights = np.zeros((powers.shape[1], 2, 2 * columns.shape[1]))  # (q, re/im, c): Re with Re, Im with Im
+        weights[:, 0, : columns.shape[1]] = columns[part].real
+        weights[:, 1, columns.shape[1] :] = columns[part].imag
+        both = powers.view(float) @ weights.reshape(-1, weights.shape[2])  # one product on the interleaved phases
+        even += both[:, : columns.shape[1]]
+        odd += both[:, columns.shape[1] :]
     even = np.asarray(even / math.pi, dtype=float)  # from extended precision (:func:`_taylor_phases`)
     odd = np.asarray(odd / math.pi, dtype=float)
     ne = grid.elements
     j = 3 * np.arange(-(ne - 1), ne)[:, None] + np.arange(-1, 2)[None, :]  # (o, a)
     out = even[np.abs(j)] - np.sign(j)[..., None] * odd[np.abs(j)]  # (o, a, b 3 3)
     return out.reshape(2 * ne - 1, 3, len(lengths), 3, 3).transpose(2, 3, 0, 1, 4)  # (b, block, o, a, k)
+
+
+def _phase_powers(theta: np.ndarray, top: int) -> np.ndarray:
+    """exp(i j theta) for j = 0..``top``, shape (top + 1, theta.size) [-]: by doubling, rows m..2m-1
+    are rows 0..m-1 times exp(i m theta) (each factor one complex exponential), log2(top) products
+    where a running product takes top; row j carries the round-off of at most log2(j) + 1 factors
+    (a running product's grows like sqrt(j), squaring's like j)."""
+    powers = np.empty((top + 1, theta.size), dtype=complex)
+    powers[0] = 1.0
+    known = 1
+    while known <= top:
+        count = min(known, top + 1 - known)
+        np.multiply(powers[:count], np.exp(1j * known * theta), out=powers[known : known + count])
+        known += count
+    return powers
 
 
 #: Largest phase j q h/3 summed by :func:`_taylor_phases` (its series then need
