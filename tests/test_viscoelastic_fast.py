@@ -62,6 +62,21 @@ def test_quadratic_offsets_and_their_memo_across_levels_equal_the_old_kernels():
     assert not visco._shape_memo
 
 
+def test_memoised_elastic_offsets_are_the_half_planes_bit_for_bit():
+    """The history's elastic subtrahend from the memo (a finer level's, sliced) is the half-plane's
+    log_offsets and sign_offsets exactly: the same integers give the same numbers."""
+    from rolling_cli.influence.halfplane import log_offsets, sign_offsets
+    from rolling_cli.model.grid import shape_integrals
+
+    visco.clear_memo()
+    for grid in (ContactGrid(2.8, 29, 2), ContactGrid(1.5, 16, 2)):
+        half = 0.5 * grid.element_length
+        log_shape, sign_shape = visco.elastic_shape_offsets(grid.elements)
+        log_k = half * (log_shape + np.log(half / 7.0) * shape_integrals(2)[None, None, :])
+        assert np.array_equal(log_k, log_offsets(grid, 7.0))
+        assert np.array_equal(half * sign_shape, sign_offsets(grid))
+
+
 @pytest.mark.parametrize("order", [0, 2])
 def test_half_plane_body_offsets_equal_the_old_ones(order):
     """The viscoelastic half-plane's blocks (a two-term Prony body, either direction)."""

@@ -282,6 +282,8 @@ def quadratic_offsets(grid: ContactGrid, b: float, length_scale: float) -> tuple
 #: blocks (the a-estimate levels of a layer share h = 2 b_layer to a few ulps): the kernels change
 #: by ~1e-14 relative, far below the solver's tolerance.
 SAME_BETA = 1e-14
+#: Entries kept by :func:`_shape_offsets` (the history and the elastic blocks of two levels).
+MEMO_ENTRIES = 4
 #: Element-offset blocks kept by :func:`_shape_offsets`: (beta, elements, log part, sign part).
 _shape_memo: list[tuple[float, int, np.ndarray, np.ndarray]] = []
 
@@ -305,7 +307,28 @@ def _shape_offsets(elements: int, beta: float) -> tuple[np.ndarray, np.ndarray]:
     signs = sign_moments(c)[..., :3] + 2.0 * math.copysign(1.0, beta) * exp_moments(c, beta)
     sign_shape = np.einsum("oam,km->oak", signs, coeff)
     _shape_memo.insert(0, (beta, elements, log_shape, sign_shape))
-    del _shape_memo[2:]
+    del _shape_memo[MEMO_ENTRIES:]
+    return log_shape, sign_shape
+
+
+def elastic_shape_offsets(elements: int) -> tuple[np.ndarray, np.ndarray]:
+    """The dimensionless parts of :func:`~.halfplane.log_offsets` and :func:`~.halfplane.sign_offsets`
+    on quadratic elements, sum_m A_km A_m(c) and sum_m A_km G_m(c), shape (2 N_e - 1, 3, 3), the
+    same numbers as theirs; memoised with :func:`_shape_offsets` (as beta = 0)."""
+    from ..model.grid import NODE_COORDINATES, shape_coefficients
+    from ..model.kernels import log_moments, sign_moments
+
+    for known, count, log_shape, sign_shape in _shape_memo:
+        if count >= elements and known == 0.0:
+            middle = slice(count - elements, count + elements - 1)
+            return log_shape[middle], sign_shape[middle]
+    offsets = np.arange(-(elements - 1), elements)
+    c = 2.0 * offsets[:, None] + NODE_COORDINATES[2][None, :]
+    coeff = shape_coefficients(2)
+    log_shape = np.einsum("oam,km->oak", log_moments(c)[..., :3], coeff)
+    sign_shape = np.einsum("oam,km->oak", sign_moments(c)[..., :3], coeff)
+    _shape_memo.insert(0, (0.0, elements, log_shape, sign_shape))
+    del _shape_memo[MEMO_ENTRIES:]
     return log_shape, sign_shape
 
 

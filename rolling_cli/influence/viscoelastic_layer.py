@@ -50,12 +50,12 @@ import math
 
 import numpy as np
 
-from ..model.grid import ContactGrid
+from ..model.grid import ContactGrid, shape_integrals
 from ..model.viscoelastic import Viscoelastic
 from ..references import layer_fourier
 from . import Compliance
-from .halfplane import _length_scale, _toeplitz_gather, log_offsets, sign_offsets
-from .viscoelastic import history_lengths, quadratic_offsets
+from .halfplane import _length_scale, _toeplitz_gather
+from .viscoelastic import elastic_shape_offsets, history_lengths, quadratic_offsets
 
 #: Complex phases formed at once by :func:`fourier_offsets` (bounds a temporary to 32 MB).
 _PHASES = 1 << 21
@@ -160,7 +160,10 @@ def history_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     if grid.order != 2 or not grid.uniform:
         raise ValueError("the viscoelastic layer needs a uniform grid of quadratic elements")
     scale = _length_scale(grid)
-    elastic_log, elastic_sign = log_offsets(grid, scale), sign_offsets(grid)
+    half = 0.5 * grid.element_length  # the half-plane's log_offsets and sign_offsets, their shapes memoised
+    log_shape, sign_shape = elastic_shape_offsets(grid.elements)
+    elastic_log = half * (log_shape + np.log(half / scale) * shape_integrals(2)[None, None, :])
+    elastic_sign = half * sign_shape
     out = fourier_offsets(grid, thickness, poisson, lengths)
     for n, b in enumerate(lengths):
         log_b, sign_b = _halfplane_history(grid, float(b), scale)
@@ -221,6 +224,8 @@ def apply_upstream_filter(x: np.ndarray, b: float, values: np.ndarray) -> np.nda
     dense product's O(n^3). b < 0 is the mirror image (x -> -x reversed, b -> -b)."""
     x = np.asarray(x, dtype=float)
     values = np.asarray(values, dtype=float)
+    if x.size <= 4 * FILTER_BAND:  # a few bands: the dense product is as cheap (and the old one exactly)
+        return upstream_filter(x, b) @ values
     if b < 0.0:
         return apply_upstream_filter(-x[::-1], -b, values[::-1])[::-1]
     from ..model.grid import node_cell_edges
