@@ -225,10 +225,10 @@ def phi_moments(c, beta: float) -> np.ndarray:
     far = ~near
     if far.any():
         distance = np.abs(c)
-        lower = 2.0
-        for upper, (x, moments) in _GL_TIERS:
-            tier = (distance > lower) & (distance <= upper)
-            lower = upper
+        inner = 2.0
+        for outer, (x, moments) in _GL_TIERS:
+            tier = (distance > inner) & (distance <= outer)
+            inner = outer
             if tier.any():
                 out[tier] = phi((c[tier][:, None] - x[None, :]) / beta) @ moments  # (points, gauss) @ (gauss, m)
     return out
