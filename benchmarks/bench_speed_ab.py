@@ -66,6 +66,7 @@ def _pairs(suite: str, elements: list[int]) -> dict[str, tuple[dict, dict]]:
 def worker(suite: str, repeat: int, elements: list[int]) -> None:
     """Measure a suite in this process (the tree on ``sys.path`` first); print JSON."""
     import rolling_cli
+    from rolling_cli.influence import viscoelastic
     from rolling_cli.influence.build import clear_memo
 
     results = {}
@@ -78,6 +79,7 @@ def worker(suite: str, repeat: int, elements: list[int]) -> None:
         for _ in range(repeat):
             for member, case in enumerate(cases):
                 clear_memo()
+                getattr(viscoelastic, "clear_memo", lambda: None)()  # the kernels' memo (not in older trees)
                 wall, cpu = time.perf_counter(), time.process_time()
                 result = rolling_cli.solve(case)
                 samples[member].append((time.perf_counter() - wall, time.process_time() - cpu))

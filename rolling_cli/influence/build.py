@@ -162,6 +162,9 @@ def clear_memo() -> None:
     _memo.clear()
     _halfplane.cache_clear()
     _viscoelastic.cache_clear()
+    from . import viscoelastic
+
+    viscoelastic.clear_memo()
     _prepared.cache_clear()
 
 

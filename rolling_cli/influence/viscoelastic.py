@@ -61,9 +61,20 @@ SERIES_BELOW = 0.5
 ASYMPTOTIC_ABOVE = 40.0
 
 
+def _powers(a: np.ndarray, count: int) -> np.ndarray:
+    """a^1 .. a^count [-], shape a.shape + (count,), by a running product."""
+    return np.cumprod(np.broadcast_to(a[..., None], a.shape + (count,)), axis=-1)
+
+
+#: S(a) = sum_k (-a)^k / (k k!) = sum_k _SERIES_S[k - 1] a^k, k = 1..24 (Phi's power series).
+_SERIES_S = np.array([(-1.0) ** k / (k * math.factorial(k)) for k in range(1, 25)])
+#: -e^a Ei(-a) ~ sum_k (-1)^k k! / a^(k+1) = sum_k _TAIL[k] a^-(k+1), k = 0..29 (the asymptotic series).
+_TAIL = np.array([(-1.0) ** k * math.factorial(k) for k in range(30)])
+
+
 def phi(a) -> np.ndarray:
     """Phi(a) = ln|a| + gamma - e^a Ei(-a) [-], Phi(0) = 0; continuous, ~ -a (ln|a| + gamma - 1) near 0,
-    ~ ln|a| + gamma + 1/a for large |a|."""
+    ~ ln|a| + gamma + 1/a for large |a|. The two series as products with their coefficient vectors."""
     from scipy.special import expi
 
     a = np.asarray(a, dtype=float)
@@ -78,11 +89,7 @@ def phi(a) -> np.ndarray:
         # Ei(-a) = gamma + ln|a| + S(a), S = sum_k (-a)^k / (k k!):
         # Phi = -(e^a - 1)(ln|a| + gamma) - e^a S(a).
         a_s = a[small]
-        term = np.ones_like(a_s)
-        series = np.zeros_like(a_s)
-        for k in range(1, 25):
-            term = term * (-a_s) / k
-            series += term / k
+        series = _powers(a_s, _SERIES_S.size) @ _SERIES_S
         with np.errstate(divide="ignore", invalid="ignore"):
             log_part = np.where(
                 a_s == 0.0, 0.0, np.expm1(a_s) * (np.log(np.abs(np.where(a_s == 0.0, 1.0, a_s))) + EULER_GAMMA)
@@ -91,12 +98,7 @@ def phi(a) -> np.ndarray:
     if large.any():
         # -e^a Ei(-a) ~ sum_k (-1)^k k! / a^(k+1), the same series for either sign of a.
         a_l = a[large]
-        term = 1.0 / a_l
-        tail = term.copy()
-        for k in range(1, 30):
-            term = term * (-k) / a_l
-            tail += term
-        out[large] = np.log(np.abs(a_l)) + EULER_GAMMA + tail
+        out[large] = np.log(np.abs(a_l)) + EULER_GAMMA + _powers(1.0 / a_l, _TAIL.size) @ _TAIL
     return out
 
 
@@ -144,22 +146,33 @@ PHI_TERMS = 25
 _PHI_P, _PHI_Q = _phi_series()
 
 
+def _psi_series(top: int) -> tuple[np.ndarray, np.ndarray]:
+    """(A, B), shape (PHI_TERMS + top + 1, top + 1): the power series of :func:`psi_moments`,
+    Psi_j(a) = sum_m (A[m - 1, j] ln|a| + B[m - 1, j]) a^m, from Phi's (p_n, q_n): the term
+    a^n of Phi gives m = n + j + 1, A = p_n / m, B = q_n / m - p_n / m^2."""
+    a = np.zeros((PHI_TERMS + top + 1, top + 1))
+    b = np.zeros_like(a)
+    for j in range(top + 1):
+        m = np.arange(PHI_TERMS) + j + 2
+        a[m - 1, j] = _PHI_P / m
+        b[m - 1, j] = _PHI_Q / m - _PHI_P / m**2
+    return a, b
+
+
 def psi_moments(a, top: int = 2) -> np.ndarray:
     """Psi_j(a) = int_0^a t^j Phi(t) dt [-], j = 0..top, shape a.shape + (top + 1,): the power series
-    for |a| < 1/2, else the recursion Psi_j = a^j Phi - j Psi_(j-1) + a^(j+1) ((ln|a| + gamma)/(j + 1)
-    - 1/(j + 1)^2) (by parts with Phi' = Phi - ln|a| - gamma), which cancels only near 0."""
+    for |a| < 1/2 (:func:`_psi_series`), else the recursion Psi_j = a^j Phi - j Psi_(j-1) + a^(j+1)
+    ((ln|a| + gamma)/(j + 1) - 1/(j + 1)^2) (by parts with Phi' = Phi - ln|a| - gamma), which cancels
+    only near 0."""
     a = np.asarray(a, dtype=float)
     out = np.zeros(a.shape + (top + 1,))
     small = np.abs(a) < SERIES_BELOW
     if small.any():
         s = a[small]
         log = np.log(np.abs(np.where(s == 0.0, 1.0, s)))
-        for j in range(top + 1):
-            total = np.zeros_like(s)
-            for i in range(PHI_TERMS):
-                m = i + 1 + j + 1  # power of a after integrating t^(n + j), n = i + 1
-                total += (_PHI_P[i] * (log / m - 1.0 / m**2) + _PHI_Q[i] / m) * s**m
-            out[small, j] = total
+        coeff_log, coeff = _psi_series(top)
+        powers = _powers(s, coeff.shape[0])
+        out[small] = log[:, None] * (powers @ coeff_log) + powers @ coeff
     big = ~small
     if big.any():
         b = a[big]
@@ -173,6 +186,17 @@ def psi_moments(a, top: int = 2) -> np.ndarray:
 
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
+
+
+def _rule(points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes on [-1, 1] and the moment weights w_g xi_g^m, shape (gauss, 3)."""
+    x, w = np.polynomial.legendre.leggauss(points)
+    return x, w[:, None] * x[:, None] ** np.arange(3)
+
+
+#: (upper |c|, rule) of :func:`phi_moments` beyond the element: n points where rho^(-2n) < 1e-17
+#: (rho >= 11.9 beyond |c| = 6: 8 points; >= 40 beyond 20: 6; >= 200 beyond 100: 4).
+_GL_TIERS = ((6.0, _rule(12)), (20.0, _rule(8)), (100.0, _rule(6)), (math.inf, _rule(4)))
 #: Breakpoints of the Gauss-Legendre panels of the exponential moments (e^-60 ~ 1e-26 beyond).
 _TAU_BREAKS = np.array([0.0, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 60.0])
 
@@ -181,9 +205,10 @@ def phi_moments(c, beta: float) -> np.ndarray:
     """M_m(c) = int_{-1}^{1} xi^m Phi((c - xi) / beta) d xi [-], m = 0, 1, 2, for local coordinates c
     (shape c.shape + (3,)); beta = b / (half the element length). Near the element (|c| <= 2) by
     the antiderivatives (:func:`psi_moments`): M_m = beta sum_j C(m, j) c^(m-j) (-beta)^j
-    [Psi_j((c + 1)/beta) - Psi_j((c - 1)/beta)]; farther by 12-point Gauss-Legendre on the integrand,
-    analytic on the element (its branch point xi = c lies outside the Bernstein ellipse of parameter
-    3.7: error < 1e-14, as :mod:`rolling_cli.model.kernels`)."""
+    [Psi_j((c + 1)/beta) - Psi_j((c - 1)/beta)]; farther by Gauss-Legendre on the integrand,
+    analytic on the element: its branch point xi = c lies outside the Bernstein ellipse of parameter
+    rho = |c| + sqrt(c^2 - 1), so n points err by ~rho^(-2n): 12 points for 2 < |c| < 6 (rho 3.7:
+    < 1e-14, as :mod:`rolling_cli.model.kernels`), fewer farther (:data:`_GL_TIERS`, each < 1e-17)."""
     c = np.asarray(c, dtype=float)
     out = np.empty(c.shape + (3,))
     near = np.abs(c) <= 2.0
@@ -199,10 +224,13 @@ def phi_moments(c, beta: float) -> np.ndarray:
             out[near, m] = beta * total
     far = ~near
     if far.any():
-        cf = c[far]
-        values = phi((cf[:, None] - _GL_X[None, :]) / beta)  # (points, gauss)
-        for m in range(3):
-            out[far, m] = values @ (_GL_W * _GL_X**m)
+        distance = np.abs(c)
+        inner = 2.0
+        for outer, (x, moments) in _GL_TIERS:
+            tier = (distance > inner) & (distance <= outer)
+            inner = outer
+            if tier.any():
+                out[tier] = phi((c[tier][:, None] - x[None, :]) / beta) @ moments  # (points, gauss) @ (gauss, m)
     return out
 
 
@@ -210,22 +238,26 @@ def exp_moments(c, beta: float) -> np.ndarray:
     """X_m(c) = int xi^m exp((c - xi) / beta) d xi over the part of [-1, 1] where (c - xi) / beta < 0
     (upstream of the target) [-], m = 0, 1, 2, shape c.shape + (3,). With tau = (xi - c) / beta >= 0,
     X_m = |beta| int (c + beta tau)^m e^-tau d tau, by 12-point Gauss-Legendre on the panels between
-    :data:`_TAU_BREAKS` (each panel's integrand is a polynomial times e^-tau: error < 1e-13)."""
+    :data:`_TAU_BREAKS` (each panel's integrand is a polynomial times e^-tau: error < 1e-13). The
+    element spans 2 / |beta| in tau, so only the panels it meets are integrated (one or two for a
+    history much longer than the elements), all points at once."""
     c = np.asarray(c, dtype=float)
     t1, t2 = (-1.0 - c) / beta, (1.0 - c) / beta
-    lo = np.maximum(0.0, np.minimum(t1, t2))
-    hi = np.maximum(0.0, np.maximum(t1, t2))
-    out = np.zeros(c.shape + (3,))
-    for left, right in zip(_TAU_BREAKS[:-1], _TAU_BREAKS[1:], strict=True):
-        a = np.clip(left, lo, hi)
-        b = np.clip(right, lo, hi)
-        half = 0.5 * (b - a)
-        tau = (0.5 * (a + b))[..., None] + half[..., None] * _GL_X  # (..., gauss)
-        xi = c[..., None] + beta * tau
-        weight = half[..., None] * _GL_W * np.exp(-tau)
-        for m in range(3):
-            out[..., m] += np.sum(weight * xi**m, axis=-1)
-    return abs(beta) * out
+    lo = np.maximum(0.0, np.minimum(t1, t2))[..., None]
+    hi = np.maximum(0.0, np.maximum(t1, t2))[..., None]
+    last = _TAU_BREAKS.size - 2
+    first = np.clip(np.searchsorted(_TAU_BREAKS, lo, side="right") - 1, 0, last)  # the panel holding lo
+    slots = int(np.max(np.clip(np.searchsorted(_TAU_BREAKS, hi, side="left") - 1, 0, last) - first, initial=0)) + 1
+    panel = np.minimum(first + np.arange(slots), last)  # (..., slot); repeats of the last one are empty
+    a = np.clip(_TAU_BREAKS[panel], lo, hi)
+    b = np.clip(_TAU_BREAKS[panel + 1], lo, hi)
+    b = np.where(np.arange(slots) > last - first, a, b)  # a repeated last panel counts once
+    half = 0.5 * (b - a)
+    tau = (0.5 * (a + b))[..., None] + half[..., None] * _GL_X  # (..., slot, gauss)
+    xi = c[..., None, None] + beta * tau
+    weight = half[..., None] * _GL_W * np.exp(-tau)
+    panels = np.stack([np.sum(weight, axis=-1), np.sum(weight * xi, axis=-1), np.sum(weight * xi * xi, axis=-1)])
+    return abs(beta) * np.moveaxis(panels.sum(axis=-1), 0, -1)
 
 
 def quadratic_offsets(grid: ContactGrid, b: float, length_scale: float) -> tuple[np.ndarray, np.ndarray]:
@@ -238,19 +270,71 @@ def quadratic_offsets(grid: ContactGrid, b: float, length_scale: float) -> tuple
 
     since C_b[ln|u|] = Phi(u/b) + ln|b| - gamma and C_b[sgn u] = sgn u - 2 sgn(u) e^(u/b) for u/b < 0
     (M: :func:`phi_moments`, X: :func:`exp_moments`, G: :func:`~rolling_cli.model.kernels.sign_moments`)."""
-    from ..model.grid import shape_coefficients, shape_integrals
-    from ..model.kernels import sign_moments
-    from .halfplane import _local_coordinates
+    from ..model.grid import shape_integrals
 
     half = 0.5 * grid.element_length
-    beta = b / half
-    c = _local_coordinates(grid)  # (o, a)
-    coeff = shape_coefficients(grid.order)
+    log_shape, sign_shape = _shape_offsets(grid.elements, b / half)
     constant = math.log(abs(b)) - EULER_GAMMA - math.log(length_scale)
-    log_k = half * (np.einsum("oam,km->oak", phi_moments(c, beta), coeff) + constant * shape_integrals(grid.order))
-    signs = sign_moments(c)[..., :3] + 2.0 * math.copysign(1.0, b) * exp_moments(c, beta)
-    sign_k = half * np.einsum("oam,km->oak", signs, coeff)
-    return log_k, sign_k
+    return half * (log_shape + constant * shape_integrals(grid.order)), half * sign_shape
+
+
+#: Relative difference of beta = b / h below which :func:`_shape_offsets` reuses an earlier level's
+#: blocks (the a-estimate levels of a layer share h = 2 b_layer to a few ulps): the kernels change
+#: by ~1e-14 relative, far below the solver's tolerance.
+SAME_BETA = 1e-14
+#: Entries kept by :func:`_shape_offsets` (the history and the elastic blocks of two levels).
+MEMO_ENTRIES = 4
+#: Element-offset blocks kept by :func:`_shape_offsets`: (beta, elements, log part, sign part).
+_shape_memo: list[tuple[float, int, np.ndarray, np.ndarray]] = []
+
+
+def _shape_offsets(elements: int, beta: float) -> tuple[np.ndarray, np.ndarray]:
+    """The dimensionless parts of :func:`quadratic_offsets`, sum_m A_km M_m(c) and
+    sum_m A_km [G_m(c) + 2 sgn(beta) X_m(c)], shape (2 N_e - 1, 3, 3), for N_e = ``elements``;
+    memoised on beta (:data:`SAME_BETA`): a coarser level with the same beta takes the middle
+    offsets of a finer one's (the offsets are the same integers, so the same numbers)."""
+    from ..model.grid import NODE_COORDINATES, shape_coefficients
+    from ..model.kernels import sign_moments
+
+    for known, count, log_shape, sign_shape in _shape_memo:
+        if count >= elements and abs(known - beta) <= SAME_BETA * abs(beta):
+            middle = slice(count - elements, count + elements - 1)
+            return log_shape[middle], sign_shape[middle]
+    offsets = np.arange(-(elements - 1), elements)
+    c = 2.0 * offsets[:, None] + NODE_COORDINATES[2][None, :]  # (o, a), as halfplane._local_coordinates
+    coeff = shape_coefficients(2)
+    log_shape = np.einsum("oam,km->oak", phi_moments(c, beta), coeff)
+    signs = sign_moments(c)[..., :3] + 2.0 * math.copysign(1.0, beta) * exp_moments(c, beta)
+    sign_shape = np.einsum("oam,km->oak", signs, coeff)
+    _shape_memo.insert(0, (beta, elements, log_shape, sign_shape))
+    del _shape_memo[MEMO_ENTRIES:]
+    return log_shape, sign_shape
+
+
+def elastic_shape_offsets(elements: int) -> tuple[np.ndarray, np.ndarray]:
+    """The dimensionless parts of :func:`~.halfplane.log_offsets` and :func:`~.halfplane.sign_offsets`
+    on quadratic elements, sum_m A_km A_m(c) and sum_m A_km G_m(c), shape (2 N_e - 1, 3, 3), the
+    same numbers as theirs; memoised with :func:`_shape_offsets` (as beta = 0)."""
+    from ..model.grid import NODE_COORDINATES, shape_coefficients
+    from ..model.kernels import log_moments, sign_moments
+
+    for known, count, log_shape, sign_shape in _shape_memo:
+        if count >= elements and known == 0.0:
+            middle = slice(count - elements, count + elements - 1)
+            return log_shape[middle], sign_shape[middle]
+    offsets = np.arange(-(elements - 1), elements)
+    c = 2.0 * offsets[:, None] + NODE_COORDINATES[2][None, :]
+    coeff = shape_coefficients(2)
+    log_shape = np.einsum("oam,km->oak", log_moments(c)[..., :3], coeff)
+    sign_shape = np.einsum("oam,km->oak", sign_moments(c)[..., :3], coeff)
+    _shape_memo.insert(0, (0.0, elements, log_shape, sign_shape))
+    del _shape_memo[MEMO_ENTRIES:]
+    return log_shape, sign_shape
+
+
+def clear_memo() -> None:
+    """Forget the memoised kernel blocks (:func:`_shape_offsets`; benchmarks time cold builds)."""
+    _shape_memo.clear()
 
 
 def history_lengths(model: Viscoelastic, speed: float, direction: int) -> tuple[float, ...]:

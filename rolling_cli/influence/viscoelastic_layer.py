@@ -50,12 +50,12 @@ import math
 
 import numpy as np
 
-from ..model.grid import ContactGrid
+from ..model.grid import ContactGrid, shape_integrals
 from ..model.viscoelastic import Viscoelastic
 from ..references import layer_fourier
 from . import Compliance
-from .halfplane import _length_scale, _toeplitz_gather, log_offsets, sign_offsets
-from .viscoelastic import history_lengths, quadratic_offsets
+from .halfplane import _length_scale, _toeplitz_gather
+from .viscoelastic import elastic_shape_offsets, history_lengths, quadratic_offsets
 
 #: Complex phases formed at once by :func:`fourier_offsets` (bounds a temporary to 32 MB).
 _PHASES = 1 << 21
@@ -78,31 +78,79 @@ def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     q, w = layer_fourier.wavenumbers((top + 3) * step, thickness, lengths)
     r_nn, r_tt, g_r = layer_fourier.remainder(q, thickness, poisson)
     shapes = layer_fourier.quadratic_spectra(q, half)  # (q, 3)
-    columns = np.concatenate(
-        [
-            (w * (1j * q * b / (1.0 - 1j * q * b)) * r)[:, None] * shapes
-            for b in lengths
-            for r in (r_nn, r_tt, -1j * g_r)
-        ],
-        axis=1,
-    )
-    even = np.zeros((top + 1, columns.shape[1]))  # Re(z^j G) = even -+ odd for +-j
-    odd = np.zeros_like(even)
+    remainders = (r_nn, r_tt, -1j * g_r)
+    weighted = [w * (1j * q * b / (1.0 - 1j * q * b)) for b in lengths]  # the history's Lorentzian, per b
+    columns = np.concatenate([(f * r)[:, None] * shapes for f in weighted for r in remainders], axis=1)
+    low = q * (top * step) <= TAYLOR_PHASE  # |j q h/3| <= TAYLOR_PHASE for every j: the series
+    even, odd = _taylor_phases(q[low], columns[low], top, step)
+    high = ~low
+    q, columns = q[high], columns[high]
     chunk = max(1, _PHASES // (top + 1))  # wavenumbers per block of phases (bounds the temporary)
     for lo in range(0, q.size, chunk):
         part = slice(lo, lo + chunk)
-        powers = np.empty((top + 1, q[part].size), dtype=complex)
-        powers[0] = 1.0
-        powers[1:] = np.exp(1j * q[part] * step)[None, :]
-        np.cumprod(powers, axis=0, out=powers)
-        even += powers.real @ columns[part].real
-        odd += powers.imag @ columns[part].imag
-    even /= math.pi
-    odd /= math.pi
+        powers = _phase_powers(q[part] * step, top)
+        weights = np.zeros((powers.shape[1], 2, 2 * columns.shape[1]))  # (q, re/im, c): Re with Re, Im with Im
+        weights[:, 0, : columns.shape[1]] = columns[part].real
+        weights[:, 1, columns.shape[1] :] = columns[part].imag
+        both = powers.view(float) @ weights.reshape(-1, weights.shape[2])  # one product on the interleaved phases
+        even += both[:, : columns.shape[1]]
+        odd += both[:, columns.shape[1] :]
+    even = np.asarray(even / math.pi, dtype=float)  # from extended precision (:func:`_taylor_phases`)
+    odd = np.asarray(odd / math.pi, dtype=float)
     ne = grid.elements
     j = 3 * np.arange(-(ne - 1), ne)[:, None] + np.arange(-1, 2)[None, :]  # (o, a)
     out = even[np.abs(j)] - np.sign(j)[..., None] * odd[np.abs(j)]  # (o, a, b 3 3)
     return out.reshape(2 * ne - 1, 3, len(lengths), 3, 3).transpose(2, 3, 0, 1, 4)  # (b, block, o, a, k)
+
+
+def _phase_powers(theta: np.ndarray, top: int) -> np.ndarray:
+    """exp(i j theta) for j = 0..``top``, shape (top + 1, theta.size) [-]: by doubling, rows m..2m-1
+    are rows 0..m-1 times exp(i m theta) (each factor one complex exponential), log2(top) products
+    where a running product takes top; row j carries the round-off of at most log2(j) + 1 factors
+    (a running product's grows like sqrt(j), squaring's like j)."""
+    powers = np.empty((top + 1, theta.size), dtype=complex)
+    powers[0] = 1.0
+    known = 1
+    while known <= top:
+        count = min(known, top + 1 - known)
+        np.multiply(powers[:count], np.exp(1j * known * theta), out=powers[known : known + count])
+        known += count
+    return powers
+
+
+#: Largest phase j q h/3 summed by :func:`_taylor_phases` (its series then need
+#: :data:`TAYLOR_TERMS` terms: 1/20! < 1e-18).
+TAYLOR_PHASE = 1.0
+TAYLOR_TERMS = 10
+
+
+def _taylor_phases(q: np.ndarray, columns: np.ndarray, top: int, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """(sum_q cos(j q step) Re G_q, sum_q sin(j q step) Im G_q) for j = 0..``top``, shape (top + 1, c),
+    for the low wavenumbers q [1/length] (q top step <= :data:`TAYLOR_PHASE`) and columns G (q, c):
+    by the cosine's and sine's power series, whose coefficients are the moments sum_q (q/q_1)^k G_q
+    (q_1 = the largest q), so the phases are never formed (~700 of the wavenumbers lie below the
+    first uniform panel, :func:`~rolling_cli.references.layer_fourier.wavenumbers`).
+
+    The moment k = 0 is shared by every j, so its round-off would shift all the entries alike (a
+    rigid displacement, to which an overlap-controlled solve answers with a load change: 1e-12 of
+    p_n, measured), where the direct sums' round-off differs from entry to entry: it is summed in
+    extended precision (``np.longdouble``), and ``even`` is returned so."""
+    even = np.zeros((top + 1, columns.shape[1]))
+    odd = np.zeros_like(even)
+    if q.size == 0:
+        return even.astype(np.longdouble), odd
+    scale = float(q.max())
+    powers = np.vander(q / scale, 2 * TAYLOR_TERMS, increasing=True)  # (q, k): (q/q_1)^k
+    moments_re = powers.T @ columns.real  # (k, c)
+    moments_im = powers.T @ columns.imag
+    x = np.arange(top + 1) * (step * scale)  # (j,) <= TAYLOR_PHASE
+    k = np.arange(2 * TAYLOR_TERMS)
+    factorial = np.array([math.factorial(int(i)) for i in k], dtype=float)
+    series = x[:, None] ** k[None, :] / factorial * np.where(k % 4 < 2, 1.0, -1.0)  # (j, k): (-1)^(k//2) x^k / k!
+    even += series[:, 2::2] @ moments_re[2::2]
+    odd += series[:, 1::2] @ moments_im[1::2]
+    constant = np.sum(columns.real.astype(np.longdouble), axis=0)  # the moment k = 0
+    return even + constant[None, :], odd
 
 
 def history_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths) -> np.ndarray:
@@ -112,7 +160,10 @@ def history_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     if grid.order != 2 or not grid.uniform:
         raise ValueError("the viscoelastic layer needs a uniform grid of quadratic elements")
     scale = _length_scale(grid)
-    elastic_log, elastic_sign = log_offsets(grid, scale), sign_offsets(grid)
+    half = 0.5 * grid.element_length  # the half-plane's log_offsets and sign_offsets, their shapes memoised
+    log_shape, sign_shape = elastic_shape_offsets(grid.elements)
+    elastic_log = half * (log_shape + np.log(half / scale) * shape_integrals(2)[None, None, :])
+    elastic_sign = half * sign_shape
     out = fourier_offsets(grid, thickness, poisson, lengths)
     for n, b in enumerate(lengths):
         log_b, sign_b = _halfplane_history(grid, float(b), scale)
@@ -159,6 +210,44 @@ def upstream_filter(x: np.ndarray, b: float) -> np.ndarray:
     return np.abs(np.expm1(-hi / b) - np.expm1(-lo / b))
 
 
+#: Rows of F formed at once by :func:`apply_upstream_filter` (dense within a band, one carried
+#: row between bands).
+FILTER_BAND = 32
+
+
+def apply_upstream_filter(x: np.ndarray, b: float, values: np.ndarray) -> np.ndarray:
+    """F @ ``values`` for F = :func:`upstream_filter` (x, b) [same units as ``values``, shape (n, c)],
+    without forming F: beyond a node's own cell F is separable, F[i, m] = exp(-(x_r - x_i)/b) F[r, m]
+    for every node r between i and m (b > 0: m > r >= i; the exponential density is memoryless), so
+    the rows are taken in bands of :data:`FILTER_BAND` from the upstream end, each band's own
+    (band x band) block of F dense and the rest carried in as one row: O(n^2 c) work against the
+    dense product's O(n^3). b < 0 is the mirror image (x -> -x reversed, b -> -b)."""
+    x = np.asarray(x, dtype=float)
+    values = np.asarray(values, dtype=float)
+    if x.size <= 4 * FILTER_BAND:  # a few bands: the dense product is as cheap (and the old one exactly)
+        return upstream_filter(x, b) @ values
+    if b < 0.0:
+        return apply_upstream_filter(-x[::-1], -b, values[::-1])[::-1]
+    from ..model.grid import node_cell_edges
+
+    edges = node_cell_edges(x)
+    n = x.size
+    out = np.empty_like(values)
+    carry = np.zeros(values.shape[1:])  # sum_{m >= end} F[end - 1, m] values[m]
+    end = n
+    while end > 0:
+        start = max(0, end - FILTER_BAND)
+        rows = np.arange(max(0, start - 1), end)  # the band and the row above it (the next carry)
+        lo = np.maximum(edges[start:end][None, :] - x[rows, None], 0.0)
+        hi = np.maximum(edges[start + 1 : end + 1][None, :] - x[rows, None], 0.0)
+        block = np.abs(np.expm1(-hi / b) - np.expm1(-lo / b))  # F[rows, start:end]
+        part = block @ values[start:end] + np.exp(-(x[end - 1] - x[rows]) / b)[:, None] * carry
+        out[start:end] = part[rows.size - (end - start) :]
+        carry = part[0]
+        end = start
+    return out
+
+
 def body_compliance(
     elastic: Compliance,
     grid: ContactGrid,
@@ -191,13 +280,17 @@ def body_compliance(
         return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
     fast = math.copysign(FAST * 2.0 * grid.half_width, terms[0][1])
     offsets_all = history_offsets(grid, thickness, model.poisson, (fast, *(b for _, b in terms)))
-    layer_f = [-_toeplitz_gather(grid, offsets_all[0, k]) for k in (0, 1, 2, 2)]  # K_F, unit modulus
-    departure = [model.glassy_young * block - f for block, f in zip(blocks, layer_f, strict=True)]
+    minus_f = [_toeplitz_gather(grid, offsets_all[0, k]) for k in (0, 1, 2)]  # -K_F, unit modulus
     n = grid.size
-    stacked = np.concatenate(departure, axis=1)  # (n, 4n): one product per term
+    stacked = np.empty((n, 4 * n))  # the departures E_g K_BEM - K_F side by side: one filter per term
+    for k, (block, f) in enumerate(zip(blocks, (0, 1, 2, 2), strict=True)):
+        np.add(model.glassy_young * block, minus_f[f], out=stacked[:, k * n : (k + 1) * n])
     for (c, b), offsets in zip(terms, offsets_all[1:], strict=True):
-        filtered = upstream_filter(np.asarray(elastic.x, dtype=float), b) @ stacked - stacked
+        filtered = apply_upstream_filter(np.asarray(elastic.x, dtype=float), b, stacked)
+        filtered -= stacked
         history = [_toeplitz_gather(grid, offsets[block]) for block in (0, 1, 2)]
         for k, block in enumerate((0, 1, 2, 2)):
-            out[k] = out[k] + c * (history[block] + filtered[:, k * n : (k + 1) * n])
+            term = history[block] + filtered[:, k * n : (k + 1) * n]
+            term *= c
+            out[k] += term
     return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)

@@ -29,6 +29,7 @@ asymptotic series, :func:`_digamma_difference`).
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 
@@ -62,11 +63,37 @@ def _spectrum(h: float, p: np.ndarray, ell: float) -> tuple[np.ndarray, np.ndarr
     lo, hi = small[:-1, None], small[1:, None]
     k_small = (0.5 * (hi + lo) + 0.5 * (hi - lo) * t[None, :]).ravel()
     w_small = (0.5 * (hi - lo) * wt[None, :]).ravel()
-    phase = np.outer(k_small, j * h)
-    v_small = np.cos(phase) @ p - 1j * (np.sin(phase) @ p)  # exp(-i k x_j) @ p, real transcendentals
+    v_small = _small_spectrum(k_small, j * h, p)
     k = np.concatenate([k_small, k_uniform.ravel()])
     w = np.concatenate([w_small, np.tile(0.5 * step * wt, n - 1)])
     return k, w, np.concatenate([v_small, values.reshape(-1, p.shape[1])])
+
+
+#: k x_j at most this (over the loaded nodes) for :func:`_small_spectrum`'s series, and its terms
+#: (1 / 20! < 1e-18).
+TAYLOR_PHASE = 1.0
+TAYLOR_TERMS = 20
+
+
+def _small_spectrum(k: np.ndarray, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """sum_j p_j exp(-i k x_j) for wavenumbers k [1/length], positions x >= 0 [length] and the
+    columns of p (n, c): by the power series of the exponential where k max(x) <= :data:`TAYLOR_PHASE`
+    (coefficients: the moments sum_j (x_j / X)^m p_j, X = max(x); most of the geometric panels below
+    the first period panel), by real cosines and sines elsewhere."""
+    out = np.empty((k.size, p.shape[1]), dtype=complex)
+    span = float(x.max()) if x.size else 0.0
+    series = k * span <= TAYLOR_PHASE
+    if series.any() and span > 0.0:
+        m = np.arange(TAYLOR_TERMS)
+        moments = np.vander(x / span, TAYLOR_TERMS, increasing=True).T @ p  # (m, c)
+        factorial = np.array([math.factorial(int(i)) for i in m], dtype=float)
+        coefficients = (-1j * (k[series] * span))[:, None] ** m[None, :] / factorial  # (k, m): (-i k X)^m / m!
+        out[series] = coefficients @ moments
+    else:
+        series[:] = False
+    phase = np.outer(k[~series], x)
+    out[~series] = np.cos(phase) @ p - 1j * (np.sin(phase) @ p)  # exp(-i k x_j) @ p, real transcendentals
+    return out
 
 
 def loss_integrals(h: float, p_n: np.ndarray, t: np.ndarray, ell: float) -> tuple[float, float]:

@@ -147,18 +147,20 @@ def quadratic_spectra(q: np.ndarray, half: float) -> np.ndarray:
     return half * moments @ coeff.T
 
 
-def element_spectrum(q: np.ndarray, centres: np.ndarray, half: float, nodal: np.ndarray) -> np.ndarray:
+def element_spectrum(q: np.ndarray, centres: np.ndarray, half: float, *nodal: np.ndarray) -> np.ndarray:
     """f~(q) [stress length] of the piecewise-quadratic traction with ``nodal`` values (3 per element,
     elements centred at the equally spaced ``centres`` [length], half-length ``half``), at the
-    wavenumbers q: the phases exp(-i q c_e) as a running product over the elements."""
+    wavenumbers q: the phases exp(-i q c_e) as a running product over the elements. Several
+    tractions (``nodal`` arrays) share the phases: shape (q, tractions), else (q,)."""
     shapes = quadratic_spectra(q, half)  # (q, 3)
-    values = np.asarray(nodal, dtype=float).reshape(-1, 3)  # (e, 3)
+    values = np.concatenate([np.asarray(v, dtype=float).reshape(-1, 3) for v in nodal], axis=1)  # (e, 3 t)
     phases = np.empty((centres.size, q.size), dtype=complex)
     phases[0] = np.exp(-1j * q * centres[0])
     if centres.size > 1:
         phases[1:] = np.exp(-1j * q * (centres[1] - centres[0]))[None, :]
         np.cumprod(phases, axis=0, out=phases)
-    return np.sum((phases.T @ values) * shapes, axis=1)
+    out = np.sum((phases.T @ values).reshape(q.size, len(nodal), 3) * shapes[:, None, :], axis=2)
+    return out if len(nodal) > 1 else out[:, 0]
 
 
 def remainder_power(
@@ -174,8 +176,8 @@ def remainder_power(
     span = float(np.ptp(centres)) + 2.0 * half
     ells = [ell for ell in lengths if ell > 0.0]
     q, w = wavenumbers(span, thickness, ells)
-    fn = element_spectrum(q, centres, half, p_n)
-    ft = element_spectrum(q, centres, half, t)
+    spectra = element_spectrum(q, centres, half, p_n, t)
+    fn, ft = spectra[:, 0], spectra[:, 1]
     r_nn, r_tt, g_r = remainder(q, thickness, poisson)
     quad = -r_nn * np.abs(fn) ** 2 + r_tt * np.abs(ft) ** 2 - 2.0 * g_r * np.imag(np.conj(fn) * ft)
     total = 0.0
