@@ -1,0 +1,109 @@
+"""Sensitivities with a slip-speed friction law (:mod:`rolling_cli.solver.law_sensitivity`).
+
+Every recorded derivative against a central difference of re-solves (relative step
+:data:`sensitivity_checks.STEP` = 1e-6 on the same grid, as tests/sensitivity_checks.py does),
+on Carter's cylinders with the exponential law (cases/falling_exponential.toml at 100
+elements), under creepage and force control, on the rising and the falling branch of
+the creep-force curve. The law's scale is differenced by scaling mu_static and mu_kinetic
+together (mu(s) -> (1 + e) mu(s)); the load by whole re-solves (rollc's grid follows
+the Hertz a, the derivative recorded is that of ``rollc solve``'s result).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rolling_cli
+from helpers import case_dict
+from rolling_cli import pipeline
+from rolling_cli.case import load_case
+from rolling_cli.solver.formulation import State
+from sensitivity_checks import STEP, TOLERANCE, _outcome_of, _resolve
+
+CASE = Path(__file__).resolve().parent.parent / "cases" / "falling_exponential.toml"
+SMALL = {"discretization.contact_elements": 100, "solver.tolerance": 1e-13}
+
+
+#: Q/(mu_s P) of each branch's point: the case's 0.5 on the rising branch; the falling branch
+#: levels off at mu_k/mu_s = 0.6 (full sliding), so its point is taken at 0.65, between that and
+#: the curve's peak.
+RATIOS = {"low-slip": 0.5, "high-slip": 0.65}
+
+
+def _base(branch: str) -> dict:
+    data = tomllib.loads(CASE.read_text())
+    return case_dict(data, **SMALL, **{"solver.branch": branch, "tangential.q_over_mu_p": RATIOS[branch]})
+
+
+def _scaled_law(data: dict, factor: float) -> dict:
+    """``data`` with the law scaled as a whole: mu(s) -> factor mu(s)."""
+    law = data["friction"]
+    return case_dict(
+        data, **{"friction.mu_static": law["mu_static"] * factor, "friction.mu_kinetic": law["mu_kinetic"] * factor}
+    )
+
+
+def _differences(data: dict, force_control: bool):
+    """(base result, {name: (recorded, central difference, scale, node states changed)})."""
+    case = load_case(data)
+    the_plan, system = pipeline.prepare(case)
+    base = pipeline.solve(case, system=system)
+    assert base.converged and not base.zone_note
+    if force_control:
+        data = case_dict(data, **{"tangential.load": base.tangential_load})
+    else:
+        data = case_dict(data, **{"tangential.creep": base.creep, "solver.branch": None})  # no branch choice
+    base = pipeline.solve(load_case(data), system=system)
+    start = State(base.p_n, base.p_t, base.solved_overlap, base.creep)
+    reference = _outcome_of(base)
+    load, q, xi, speed = base.normal_load, base.tangential_load, base.creep, base.rolling_speed
+    out_name = "creep" if force_control else "force"
+
+    def central(moved, whole: bool = False):
+        runs = [
+            _outcome_of(pipeline.solve(load_case(moved(sign)))) if whole else _resolve(moved(sign), system, start)
+            for sign in (1.0, -1.0)
+        ]
+        changed = not all(np.array_equal(run.states, reference.states) for run in runs)
+        return getattr(runs[0], out_name) - getattr(runs[1], out_name), runs, changed
+
+    force_scale = base.mu * load
+    creep_scale = max(abs(xi), base.mu * base.hertz_a / the_plan.radius)
+    out_scale = creep_scale if force_control else force_scale
+    prefix = "dxi" if force_control else "dQ"
+    found = {}
+    d, _, changed = central(lambda s: _scaled_law(data, 1.0 + s * STEP))
+    found[f"{prefix}_dmu"] = (d / (2 * STEP), out_scale)
+    found[f"{prefix}_dmu"] += (changed,)
+    d, _, changed = central(lambda s: case_dict(data, **{"rolling.speed": speed * (1.0 + s * STEP)}))
+    found[f"{prefix}_dV"] = (d / (2 * STEP * speed), out_scale / speed, changed)
+    d, runs, changed = central(lambda s: case_dict(data, **{"normal.load": load * (1.0 + s * STEP)}), whole=True)
+    found[f"{prefix}_dP"] = (d / (runs[0].load - runs[1].load), out_scale / load, changed)
+    if force_control:
+        d, runs, changed = central(lambda s: case_dict(data, **{"tangential.load": q * (1.0 + s * STEP)}))
+        found["dxi_dQ"] = (d / (runs[0].force - runs[1].force), creep_scale / force_scale, changed)
+    else:
+        d, runs, changed = central(lambda s: case_dict(data, **{"tangential.creep": xi * (1.0 + s * STEP)}))
+        found["dQ_dxi"] = (d / (runs[0].creep - runs[1].creep), force_scale / creep_scale, changed)
+    return base, found
+
+
+@pytest.mark.parametrize("force_control", [False, True], ids=["creep", "force"])
+@pytest.mark.parametrize("branch", ["low-slip", "high-slip"])
+def test_law_sensitivities_match_central_differences(branch, force_control):
+    """Each recorded derivative within :data:`TOLERANCE` (1e-5, relative to max(|value|, scale/10):
+    the differences' truncation ~1e-12 and the re-solves' residual 1e-13 mu P over the step 1e-6,
+    ~1e-7 of the scale, both far below) of its central difference; the node states the same at
+    both ends of every difference (else the difference is no fair reference and the test says so)."""
+    base, found = _differences(_base(branch), force_control)
+    assert base.branch == ("rising" if branch == "low-slip" else "falling")
+    for name, (difference, scale, changed) in found.items():
+        assert not changed, f"{name}: the node states change within the step"
+        recorded = getattr(base, name)
+        error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
+        assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
