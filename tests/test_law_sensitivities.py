@@ -19,9 +19,10 @@ import numpy as np
 import pytest
 
 import rolling_cli
-from helpers import case_dict
+from helpers import case_dict, dissimilar
 from rolling_cli import pipeline
 from rolling_cli.case import load_case
+from rolling_cli.report.summary import summary
 from rolling_cli.solver.formulation import State
 from sensitivity_checks import STEP, TOLERANCE, _outcome_of, _resolve
 
@@ -38,6 +39,13 @@ RATIOS = {"low-slip": 0.5, "high-slip": 0.65}
 def _base(branch: str) -> dict:
     data = tomllib.loads(CASE.read_text())
     return case_dict(data, **SMALL, **{"solver.branch": branch, "tangential.q_over_mu_p": RATIOS[branch]})
+
+
+def _dissimilar() -> dict:
+    """The case's law on aluminium against steel (coupled normal and tangential problems)."""
+    data = _base("low-slip")
+    data["bodies"] = dissimilar()["bodies"]
+    return data
 
 
 def _scaled_law(data: dict, factor: float) -> dict:
@@ -77,13 +85,15 @@ def _differences(data: dict, force_control: bool):
     out_scale = creep_scale if force_control else force_scale
     prefix = "dxi" if force_control else "dQ"
     found = {}
-    d, _, changed = central(lambda s: _scaled_law(data, 1.0 + s * STEP))
-    found[f"{prefix}_dmu"] = (d / (2 * STEP), out_scale)
-    found[f"{prefix}_dmu"] += (changed,)
+    d, _, changed = central(lambda s: _scaled_law(data, 1.0 + s * STEP))  # d/d mu_static, the law scaled with it
+    found[f"{prefix}_dmu"] = (d / (2 * STEP * base.mu), out_scale / base.mu, changed)
     d, _, changed = central(lambda s: case_dict(data, **{"rolling.speed": speed * (1.0 + s * STEP)}))
     found[f"{prefix}_dV"] = (d / (2 * STEP * speed), out_scale / speed, changed)
-    d, runs, changed = central(lambda s: case_dict(data, **{"normal.load": load * (1.0 + s * STEP)}), whole=True)
-    found[f"{prefix}_dP"] = (d / (runs[0].load - runs[1].load), out_scale / load, changed)
+    if pipeline.hertz_applies(case):  # else no P-derivatives with a law (law_sensitivity's docstring)
+        d, runs, changed = central(lambda s: case_dict(data, **{"normal.load": load * (1.0 + s * STEP)}), whole=True)
+        found[f"{prefix}_dP"] = (d / (runs[0].load - runs[1].load), out_scale / load, changed)
+        d_peak = (runs[0].peak - runs[1].peak) / (runs[0].load - runs[1].load)
+        found["dp0_dP"] = (d_peak, reference.peak / load, changed)
     if force_control:
         d, runs, changed = central(lambda s: case_dict(data, **{"tangential.load": q * (1.0 + s * STEP)}))
         found["dxi_dQ"] = (d / (runs[0].force - runs[1].force), creep_scale / force_scale, changed)
@@ -107,3 +117,37 @@ def test_law_sensitivities_match_central_differences(branch, force_control):
         recorded = getattr(base, name)
         error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
         assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
+
+
+@pytest.mark.parametrize("force_control", [False, True], ids=["creep", "force"])
+def test_coupled_law_sensitivities_match_central_differences(force_control):
+    """Dissimilar bodies (the pressure moves with the tangential problem: the coupled velocity
+    system, and the homogeneity's dp0/dP takes the peak's own derivatives along xi or Q and |V|):
+    every derivative within :data:`TOLERANCE` of its difference (as above)."""
+    base, found = _differences(_dissimilar(), force_control)
+    names = {"dxi_dmu", "dxi_dV", "dxi_dQ", "dxi_dP"} if force_control else {"dQ_dmu", "dQ_dV", "dQ_dxi", "dQ_dP"}
+    assert set(found) == names | {"dp0_dP"}
+    for name, (difference, scale, changed) in found.items():
+        assert not changed, f"{name}: the node states change within the step"
+        recorded = getattr(base, name)
+        error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
+        assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
+    assert math.isfinite(base.da_dP)
+
+
+def test_coulomb_friction_records_no_speed_derivative():
+    """A constant law: the Coulomb sensitivities as before, and no dQ_dV/dxi_dV (not recorded, None),
+    nor their summary line; dQ/dxi equals the law case's at mu_kinetic = mu_static (the same
+    friction everywhere: the velocity Newton and the Coulomb elimination solve one problem)."""
+    data = _base("low-slip")
+    coulomb = case_dict(data, **{"solver.branch": None})
+    coulomb["friction"] = {"mu": data["friction"]["mu_static"]}
+    result = rolling_cli.solve(load_case(coulomb))
+    assert result.dQ_dV is None and result.dxi_dV is None
+    assert "rolling speed:" not in summary(result)
+    flat = case_dict(data, **{"solver.branch": None, "friction.mu_kinetic": data["friction"]["mu_static"]})
+    law = rolling_cli.solve(load_case(flat))
+    assert law.dQ_dV == 0.0 or abs(law.dQ_dV) <= 1e-12 * abs(law.dQ_dxi)
+    # the same problem solved two ways: the two Newtons' last LUs, round-off ~1e-10 relative
+    assert law.dQ_dxi == pytest.approx(result.dQ_dxi, rel=1e-8)
+    assert law.dxi_dmu == pytest.approx(result.dxi_dmu, rel=1e-8)

@@ -46,7 +46,7 @@ import numpy as np
 
 from .formulation import Problem, State, evaluate, node_sets, traction_scales
 from .linalg import solve_dense
-from .sensitivity import UNDEFINED, Sensitivities
+from .sensitivity import UNDEFINED, Sensitivities, Tangent, _edge_derivative
 from .velocity import velocity_system
 
 
@@ -85,51 +85,64 @@ def law_sensitivities(
     held = problem.held(force=("load", q) if force_control else None)
     ev = evaluate(held, state, traction_scales(held, state))
     system, scale, speed_column = law_columns(held, state, ev)
-    nc, nt = system.contact.size, system.traction.size
     if force_control:
         control = np.zeros(system.rhs.size)
         control[system.col_creep] = 1.0 / held.system.zone_length
     else:
         control = system.creep_column
-    dz = solve_dense(system.matrix, np.column_stack([control, scale, speed_column]))
-    dz = np.asarray(dz).reshape(system.rhs.size, 3)
+    dz = solve_dense(system.matrix, np.column_stack([control, scale / problem.friction.law.mu_static, speed_column]))
+    tangents = [_tangent(held, system, np.asarray(dz).reshape(system.rhs.size, 3)[:, k]) for k in range(3)]
+    speed = problem.friction.speed
+    # homogeneity (module docstring): P dF/dP = degree(F) F - weight dF/d(xi or Q) + (V/2) dF/dV
+    weight = q if force_control else 0.5 * state.creep
+    normal = _normal(problem, state, system.contact, tangents, weight, speed, load, half_width)
+    da, dp0 = normal if self_similar else (math.nan, math.nan)
     if force_control:
-        dxi = dz[system.col_creep] / held.system.penalty_t  # dxi/dQ, dxi/de, dxi/dV
-        return _from_creep(dxi, state.creep, q, load, problem.friction.speed, self_similar, half_width, state)
-    dq = w[system.traction] @ dz[nc : nc + nt]  # dQ/dxi, dQ/de, dQ/dV
-    return _from_force(dq, state.creep, q, load, problem.friction.speed, self_similar, half_width, state)
-
-
-def _ratio(numerator: float, denominator: float) -> float:
-    return numerator / denominator if denominator != 0.0 else math.nan
-
-
-def _normal(load: float, self_similar: bool, half_width: float, state: State) -> tuple[float, float]:
-    """(da/dP, dp0/dP) of a load on two half-spaces (module docstring), else NaN."""
-    if not self_similar:
-        return math.nan, math.nan
-    return 0.5 * half_width / load, 0.5 * float(-state.p_n.min()) / load
-
-
-def _from_force(dq, xi, q, load, speed, self_similar, half_width, state) -> Sensitivities:
-    """Both sets from Q's derivatives (creepage control)."""
-    dq_dxi, dq_dmu, dq_dv = (float(v) for v in dq)
-    dq_dp = (q - 0.5 * xi * dq_dxi + 0.5 * speed * dq_dv) / load if self_similar else math.nan
+        dxi_dq, dxi_dmu, dxi_dv = (t.d_creep for t in tangents)
+        dxi_dp = (0.5 * state.creep - weight * dxi_dq + 0.5 * speed * dxi_dv) / load if self_similar else math.nan
+        inverse = _ratio(1.0, dxi_dq)
+        return Sensitivities(
+            inverse, -dxi_dmu * inverse, -dxi_dp * inverse, dxi_dq, dxi_dmu, dxi_dp, da, dp0,
+            dQ_dV=-dxi_dv * inverse, dxi_dV=dxi_dv,
+        )  # fmt: skip
+    dq_dxi, dq_dmu, dq_dv = (t.d_force for t in tangents)
+    dq_dp = (q - weight * dq_dxi + 0.5 * speed * dq_dv) / load if self_similar else math.nan
     inverse = _ratio(1.0, dq_dxi)
-    da, dp0 = _normal(load, self_similar, half_width, state)
     return Sensitivities(
         dq_dxi, dq_dmu, dq_dp, inverse, -dq_dmu * inverse, -dq_dp * inverse, da, dp0,
         dQ_dV=dq_dv, dxi_dV=-dq_dv * inverse,
     )  # fmt: skip
 
 
-def _from_creep(dxi, xi, q, load, speed, self_similar, half_width, state) -> Sensitivities:
-    """Both sets from the creepage's derivatives (force control)."""
-    dxi_dq, dxi_dmu, dxi_dv = (float(v) for v in dxi)
-    dxi_dp = (0.5 * xi - q * dxi_dq + 0.5 * speed * dxi_dv) / load if self_similar else math.nan
-    inverse = _ratio(1.0, dxi_dq)
-    da, dp0 = _normal(load, self_similar, half_width, state)
-    return Sensitivities(
-        inverse, -dxi_dmu * inverse, -dxi_dp * inverse, dxi_dq, dxi_dmu, dxi_dp, da, dp0,
-        dQ_dV=-dxi_dv * inverse, dxi_dV=dxi_dv,
-    )  # fmt: skip
+def _ratio(numerator: float, denominator: float) -> float:
+    return numerator / denominator if denominator != 0.0 else math.nan
+
+
+def _tangent(problem: Problem, system, dz: np.ndarray) -> Tangent:
+    """The :class:`~rolling_cli.solver.sensitivity.Tangent` of the velocity system's solution
+    derivative ``dz`` (tractions [stress/theta], overlap, Q and xi along theta)."""
+    contact_system = problem.system
+    nc, nt = system.contact.size, system.traction.size
+    dp_n = np.zeros(contact_system.size)
+    dp_n[system.contact] = dz[:nc]
+    dp_t = np.zeros(contact_system.size)
+    dp_t[system.traction] = dz[nc : nc + nt]
+    d_overlap = float(dz[system.col_overlap]) / contact_system.penalty_n if system.col_overlap is not None else 0.0
+    d_creep = float(dz[system.col_creep]) / contact_system.penalty_t if system.col_creep is not None else 1.0
+    return Tangent(dp_n, dp_t, d_overlap, float(contact_system.weights @ dp_t), d_creep)
+
+
+def _normal(problem, state, contact, tangents, weight, speed, load, half_width) -> tuple[float, float]:
+    """(da/dP, dp0/dP) of a load on two half-spaces by homogeneity (module docstring; a and p0 of
+    degree 1/2): the pressure's own derivatives along xi or Q and |V| (zero for similar bodies,
+    else a's by the active-set change argument of :mod:`rolling_cli.solver.sensitivity`)."""
+    peak = int(np.argmin(state.p_n))
+    control, _, along_speed = tangents
+    d_a = d_p0 = d_a_v = d_p0_v = 0.0
+    if np.any(control.dp_n) or np.any(along_speed.dp_n):  # the pressure moves (coupled)
+        d_a = _edge_derivative(problem.system, state, contact, control)
+        d_a_v = _edge_derivative(problem.system, state, contact, along_speed)
+        d_p0, d_p0_v = float(-control.dp_n[peak]), float(-along_speed.dp_n[peak])
+    da = (0.5 * half_width - weight * d_a + 0.5 * speed * d_a_v) / load
+    dp0 = (0.5 * float(-state.p_n[peak]) - weight * d_p0 + 0.5 * speed * d_p0_v) / load
+    return da, dp0
