@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from sensitivity_checks import STEP, TOLERANCE, _outcome_of, _resolve
 
 import rolling_cli
 from helpers import case_dict, dissimilar
@@ -24,7 +25,6 @@ from rolling_cli import pipeline
 from rolling_cli.case import load_case
 from rolling_cli.report.summary import summary
 from rolling_cli.solver.formulation import State
-from sensitivity_checks import STEP, TOLERANCE, _outcome_of, _resolve
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "falling_exponential.toml"
 SMALL = {"discretization.contact_elements": 100, "solver.tolerance": 1e-13}

@@ -298,9 +298,7 @@ def _law_sensitivities(case: Case, state: State, converged: bool, half_width: fl
     if converged and solution is not None and solution.problem.tangential:
         force = case.tangential.control()[0] != "creep"
         try:
-            found = law_sensitivity.law_sensitivities(
-                solution.problem, state, force, hertz_applies(case), half_width
-            )
+            found = law_sensitivity.law_sensitivities(solution.problem, state, force, hertz_applies(case), half_width)
         except np.linalg.LinAlgError as err:
             log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
     out = found.as_dict()
