@@ -67,6 +67,8 @@ def _differences(data: dict, force_control: bool):
     else:
         data = case_dict(data, **{"tangential.creep": base.creep, "solver.branch": None})  # no branch choice
     base = pipeline.solve(load_case(data), system=system)
+    if case.normal.load is None:  # the derivatives hold P: re-solved under load control at the solved P
+        data = case_dict(data, **{"normal.load": base.normal_load})
     start = State(base.p_n, base.p_t, base.solved_overlap, base.creep)
     reference = _outcome_of(base)
     load, q, xi, speed = base.normal_load, base.tangential_load, base.creep, base.rolling_speed
@@ -151,3 +153,18 @@ def test_coulomb_friction_records_no_speed_derivative():
     # the same problem solved two ways: the two Newtons' last LUs, round-off ~1e-10 relative
     assert law.dQ_dxi == pytest.approx(result.dQ_dxi, rel=1e-8)
     assert law.dxi_dmu == pytest.approx(result.dxi_dmu, rel=1e-8)
+
+
+def test_overlap_controlled_law_sensitivities_hold_the_load():
+    """Overlap control (dissimilar bodies, creepage control): differentiated as the load-controlled
+    problem at its own load, so dQ/dxi, dQ/dmu and dQ/dV match differences of re-solves with P held
+    (as above); no P-derivatives (NaN: no homogeneity, module docstring)."""
+    data = case_dict(_dissimilar(), **{"normal.overlap": 0.01, "solver.branch": None, "tangential.creep": -0.002})
+    base, found = _differences(data, False)
+    assert set(found) == {"dQ_dmu", "dQ_dV", "dQ_dxi"}
+    for name, (difference, scale, changed) in found.items():
+        assert not changed, f"{name}: the node states change within the step"
+        recorded = getattr(base, name)
+        error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
+        assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
+    assert all(math.isnan(getattr(base, name)) for name in ("dQ_dP", "dxi_dP", "da_dP", "dp0_dP"))

@@ -16,7 +16,12 @@ the Jacobian of that system. The slip rows are R_i = p_t,i - sigma_i mu(s_a,i)
 * the creepage xi (``dQ_dxi``): the system's ``creep_column``; a prescribed
   force Q (force control): the force row's right-hand side, 1/zone length.
 
-The adhesion, contact and load rows hold neither mu nor |V|. Force control
+The adhesion, contact and load rows hold neither mu nor |V|. An
+overlap-controlled solve is differentiated as the load-controlled problem at
+its own load (P held, as :mod:`rolling_cli.solver.sensitivity` does). The
+velocity system is assembled and factorised once more here (dense LU, all
+three columns at once): the Newton's kept factorisation is of an earlier
+step's matrix (:mod:`rolling_cli.solver.reuse`), not of this one. Force control
 gives dxi/dQ, dxi/dmu, dxi/dV from the bordered system (creepage unknown),
 creepage control dQ/dxi, dQ/dmu, dQ/dV; the other set follows by the implicit
 function theorem as in :mod:`rolling_cli.solver.sensitivity`.
@@ -34,8 +39,11 @@ Q(l P, l^1/2 xi, l^-1/2 V) = l Q(P, xi, V). Differentiated at l = 1,
 exact derivatives of ``rollc solve``'s result from the fixed-grid ones in xi,
 Q and V. The pressure of such a pair does not depend on the tangential
 problem: da/dP = a/(2P), dp0/dP = p0/(2P). Other problems get no
-P-derivatives with a law (NaN): their fixed-state derivative misses the edge
-motion and no homogeneity corrects it.
+P-derivatives with a law (NaN): layers, overlap control and finite cylinders,
+whose fixed-state derivative misses the edge motion (3.7 % on dxi/dP of a
+viscoelastic case, 46 % on Carter's dQ/dP) and which no homogeneity corrects.
+A node exactly on a zone boundary: the one-sided derivative of the solver's
+own node states (:func:`~rolling_cli.solver.formulation.node_sets`).
 """
 
 from __future__ import annotations
@@ -82,7 +90,9 @@ def law_sensitivities(
     if not load > 0.0 or problem.friction is None or not problem.tangential:
         return UNDEFINED
     q = float(w @ state.p_t)
-    held = problem.held(force=("load", q) if force_control else None)
+    # an overlap-controlled solve as the load-controlled problem at its own load (P held, as
+    # :mod:`rolling_cli.solver.sensitivity` does); a prescribed force held as Q itself
+    held = problem.held(force=("load", q) if force_control else None, load=load if problem.normal else problem.load)
     ev = evaluate(held, state, traction_scales(held, state))
     system, scale, speed_column = law_columns(held, state, ev)
     if force_control:
