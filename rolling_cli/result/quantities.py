@@ -288,13 +288,13 @@ class Sensitivities:
 
     dQ_dxi: float | None = quantity("creep coefficient dQ/dxi at fixed mu and P", "force/length")
     dQ_dmu: float | None = quantity(
-        "dQ/dmu at fixed creepage and P (a slip-speed law: d/de of the law scaled as a whole, (1+e) mu(s_a))",
+        "dQ/dmu at fixed creepage and P (a slip-speed law: d/dmu_static with the law scaled as a whole)",
         "force/length",
     )
     dQ_dP: float | None = quantity("dQ/dP at fixed creepage and mu", "1")
     dxi_dQ: float | None = quantity("dxi/dQ at fixed mu and P", "1/(force/length)")
     dxi_dmu: float | None = quantity(
-        "dxi/dmu at fixed Q and P (a slip-speed law: d/de of the law scaled as a whole, (1+e) mu(s_a))", "1"
+        "dxi/dmu at fixed Q and P (a slip-speed law: d/dmu_static with the law scaled as a whole)", "1"
     )
     dxi_dP: float | None = quantity("dxi/dP at fixed Q and mu", "1/(force/length)")
     da_dP: float | None = quantity(

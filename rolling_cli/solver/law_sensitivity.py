@@ -9,8 +9,10 @@ of the converged solution gives A dz/dtheta = -dR/dtheta at fixed z, with A
 the Jacobian of that system. The slip rows are R_i = p_t,i - sigma_i mu(s_a,i)
 |lambda_n,i| (in stress units, as the velocity rows), so
 
-* the law's scale, mu(s) -> (1 + e) mu(s) (``dQ_dmu``: the whole law scaled,
-  mu_static and mu_kinetic together, at e = 0): -dR_i/de = sigma_i mu(s_a,i) |lambda_n,i|;
+* the law's scale, mu(s) -> (1 + e) mu(s) (the whole law scaled, mu_static and
+  mu_kinetic together, at e = 0): -dR_i/de = sigma_i mu(s_a,i) |lambda_n,i|;
+  ``dQ_dmu`` is d/d mu_static along that scaling, (1/mu_static) d/de, which is
+  Coulomb's dQ/dmu for a flat law (mu_kinetic = mu_static);
 * the rolling speed |V| (``dQ_dV``), which enters only through s_a = |V| |s_t|:
   -dR_i/d|V| = sigma_i mu'(s_a,i) |s_t,i| |lambda_n,i|;
 * the creepage xi (``dQ_dxi``): the system's ``creep_column``; a prescribed
