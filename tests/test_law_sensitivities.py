@@ -168,3 +168,16 @@ def test_overlap_controlled_law_sensitivities_hold_the_load():
         error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
         assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
     assert all(math.isnan(getattr(base, name)) for name in ("dQ_dP", "dxi_dP", "da_dP", "dp0_dP"))
+
+
+def test_viscoelastic_law_case_records_no_speed_or_load_derivative():
+    """A viscoelastic body: |V| enters its influence (V tau / a) as well as the law's s_a, and the
+    load homogeneity does not hold: dQ/dV, dxi/dV and the P-derivatives are NaN, the derivatives
+    in xi, Q and the law's scale recorded (finite)."""
+    data = tomllib.loads((CASE.parent / "rubber_roller.toml").read_text())
+    data = case_dict(data, **{"discretization.contact_elements": 100})
+    data["friction"] = {"law": "exponential", "mu_static": 0.5, "mu_kinetic": 0.3, "slip_velocity_half": 100.0}
+    result = rolling_cli.solve(load_case(data))
+    assert result.converged
+    assert all(math.isnan(getattr(result, name)) for name in ("dQ_dV", "dxi_dV", "dQ_dP", "dxi_dP", "da_dP"))
+    assert all(math.isfinite(getattr(result, name)) for name in ("dQ_dxi", "dQ_dmu", "dxi_dQ", "dxi_dmu"))

@@ -262,30 +262,31 @@ def _sensitivities(
     P-derivatives of half-space pairs does not hold for a viscoelastic body (its time scale
     tau V / a changes with the load), and the fixed-state ones miss the motion of the contact
     edges (3.7 % on dxi/dP of cases/rubber_roller-like SLS case against central differences of
-    re-solves): a viscoelastic case records no P-derivatives (NaN)."""
+    re-solves): a viscoelastic case records no P-derivatives (NaN), and with a law no dQ/dV
+    (the speed enters its influence too, which the law's column does not hold)."""
     from ..model import viscoelastic
     from ..model.friction import from_case
     from ..solver import sensitivity
 
     t0 = time.perf_counter()
     found = sensitivity.UNDEFINED
-    if from_case(case.friction, case.rolling).velocity_dependent:
-        found_law = _law_sensitivities(case, state, converged, half_width, solution)
-        return {**found_law, "time_sensitivities": time.perf_counter() - t0}
-    layer = _layer_systems(case, the_plan) if converged and case.output.layer_derivative else None
-    if converged:
+    law = from_case(case.friction, case.rolling).velocity_dependent  # no layer derivative with a law (NaN)
+    layer = _layer_systems(case, the_plan) if converged and case.output.layer_derivative and not law else None
+    if converged and not law:
         force = case.tangential.control()[0] != "creep"
         try:
             similar = hertz_applies(case)
             found = sensitivity.sensitivities(system, case.friction.mu, state, force, similar, half_width, layer)
         except np.linalg.LinAlgError as err:
             log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
-    out = found.as_dict()
+    out = _law_sensitivities(case, state, converged, half_width, solution) if law else found.as_dict()
     if case.output.layer_derivative:  # asked for: NaN where not computed
         out.setdefault("dQ_db", math.nan)
         out.setdefault("dxi_db", math.nan)
     if viscoelastic.bodies(case):
         out.update(dict.fromkeys(("dQ_dP", "dxi_dP", "da_dP", "dp0_dP"), math.nan))
+        if law:  # |V| enters the viscoelastic influence too (V tau / a), not only the law's s_a
+            out.update(dict.fromkeys(("dQ_dV", "dxi_dV"), math.nan))
     return {**out, "time_sensitivities": time.perf_counter() - t0}
 
 
