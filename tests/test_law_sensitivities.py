@@ -51,6 +51,8 @@ def _dissimilar() -> dict:
 def _scaled_law(data: dict, factor: float) -> dict:
     """``data`` with the law scaled as a whole: mu(s) -> factor mu(s)."""
     law = data["friction"]
+    if "mu_kinetic" not in law:  # Polach: mu_kinetic = A mu_static scales with mu_static
+        return case_dict(data, **{"friction.mu_static": law["mu_static"] * factor})
     return case_dict(
         data, **{"friction.mu_static": law["mu_static"] * factor, "friction.mu_kinetic": law["mu_kinetic"] * factor}
     )
@@ -105,6 +107,17 @@ def _differences(data: dict, force_control: bool):
     return base, found
 
 
+def _assert_matches(base, found: dict) -> None:
+    """Each recorded derivative within :data:`TOLERANCE` of its difference (relative to
+    max(|value|, scale/10)), the node states the same at both ends of every difference (else the
+    difference is no fair reference and the test says so)."""
+    for name, (difference, scale, changed) in found.items():
+        assert not changed, f"{name}: the node states change within the step"
+        recorded = getattr(base, name)
+        error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
+        assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
+
+
 @pytest.mark.parametrize("force_control", [False, True], ids=["creep", "force"])
 @pytest.mark.parametrize("branch", ["low-slip", "high-slip"])
 def test_law_sensitivities_match_central_differences(branch, force_control):
@@ -114,11 +127,7 @@ def test_law_sensitivities_match_central_differences(branch, force_control):
     both ends of every difference (else the difference is no fair reference and the test says so)."""
     base, found = _differences(_base(branch), force_control)
     assert base.branch == ("rising" if branch == "low-slip" else "falling")
-    for name, (difference, scale, changed) in found.items():
-        assert not changed, f"{name}: the node states change within the step"
-        recorded = getattr(base, name)
-        error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
-        assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
+    _assert_matches(base, found)
 
 
 @pytest.mark.parametrize("force_control", [False, True], ids=["creep", "force"])
@@ -129,11 +138,7 @@ def test_coupled_law_sensitivities_match_central_differences(force_control):
     base, found = _differences(_dissimilar(), force_control)
     names = {"dxi_dmu", "dxi_dV", "dxi_dQ", "dxi_dP"} if force_control else {"dQ_dmu", "dQ_dV", "dQ_dxi", "dQ_dP"}
     assert set(found) == names | {"dp0_dP"}
-    for name, (difference, scale, changed) in found.items():
-        assert not changed, f"{name}: the node states change within the step"
-        recorded = getattr(base, name)
-        error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
-        assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
+    _assert_matches(base, found)
     assert math.isfinite(base.da_dP)
 
 
@@ -162,11 +167,7 @@ def test_overlap_controlled_law_sensitivities_hold_the_load():
     data = case_dict(_dissimilar(), **{"normal.overlap": 0.01, "solver.branch": None, "tangential.creep": -0.002})
     base, found = _differences(data, False)
     assert set(found) == {"dQ_dmu", "dQ_dV", "dQ_dxi"}
-    for name, (difference, scale, changed) in found.items():
-        assert not changed, f"{name}: the node states change within the step"
-        recorded = getattr(base, name)
-        error = abs(recorded - difference) / max(abs(recorded), 0.1 * scale)
-        assert error <= TOLERANCE, f"{name}: recorded {recorded:.10g}, difference {difference:.10g} ({error:.2e})"
+    _assert_matches(base, found)
     assert all(math.isnan(getattr(base, name)) for name in ("dQ_dP", "dxi_dP", "da_dP", "dp0_dP"))
 
 
@@ -181,3 +182,14 @@ def test_viscoelastic_law_case_records_no_speed_or_load_derivative():
     assert result.converged
     assert all(math.isnan(getattr(result, name)) for name in ("dQ_dV", "dxi_dV", "dQ_dP", "dxi_dP", "da_dP"))
     assert all(math.isfinite(getattr(result, name)) for name in ("dQ_dxi", "dQ_dmu", "dxi_dQ", "dxi_dmu"))
+
+
+@pytest.mark.parametrize("force_control", [False, True], ids=["creep", "force"])
+def test_polach_law_sensitivities_match_central_differences(force_control):
+    """Polach's law (mu_s = 0.3, A = 0.6, B = 0.01 s/mm: s_a ~ 90 mm/s here, mu well down its
+    fall), another mu(s_a) and d mu/d s_a through the same columns: as above."""
+    data = _base("low-slip")
+    data["friction"] = {"law": "polach", "mu_static": 0.3, "polach_a": 0.6, "polach_b": 0.01}
+    base, found = _differences(data, force_control)
+    assert len(found) == 5
+    _assert_matches(base, found)
