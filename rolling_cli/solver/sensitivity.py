@@ -1,5 +1,7 @@
 """Sensitivities of a converged solve by implicit differentiation (issue 24, item 1).
 
+(Coulomb friction; a slip-speed friction law: :mod:`rolling_cli.solver.law_sensitivity`.)
+
 At a converged solution the node states (separation, adhesion, slip and the
 slip directions sigma) fix the reduced Newton system A z = b of
 :mod:`rolling_cli.solver.reduced`. While they do not change, the solution is
