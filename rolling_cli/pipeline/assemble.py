@@ -111,7 +111,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
-    attrs.update(_sensitivities(case, system, state, converged, half_width, the_plan))
+    attrs.update(_sensitivities(case, system, state, converged, half_width, the_plan, solution))
     attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
     if is_viscoelastic(a) or is_viscoelastic(b):  # rolling resistance, pressure shift, hysteresis (none if elastic)
         from ..model import resistance
@@ -245,41 +245,67 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
 
 
 def _sensitivities(
-    case: Case, system: ContactSystem, state: State, converged: bool, half_width: float, the_plan: Plan
+    case: Case,
+    system: ContactSystem,
+    state: State,
+    converged: bool,
+    half_width: float,
+    the_plan: Plan,
+    solution: Solution | None = None,
 ) -> dict:
     """The derivatives of a converged solve (:mod:`rolling_cli.solver.sensitivity`) and their time;
     NaN for a failed one (its state is no solution) or a singular final matrix (a warning).
 
-    Not with a velocity-dependent friction law: its slip rows carry the d mu/d s_a term that the
-    sensitivity rows do not (NaN, said at debug level). The load homogeneity that gives the
+    A velocity-dependent friction law takes them from the velocity Newton's own linearisation
+    (:mod:`rolling_cli.solver.law_sensitivity`, with dQ/dV and dxi/dV; the P-derivatives of
+    half-space pairs only, by homogeneity; NaN elsewhere). The load homogeneity that gives the
     P-derivatives of half-space pairs does not hold for a viscoelastic body (its time scale
     tau V / a changes with the load), and the fixed-state ones miss the motion of the contact
     edges (3.7 % on dxi/dP of cases/rubber_roller-like SLS case against central differences of
-    re-solves): a viscoelastic case records no P-derivatives (NaN)."""
+    re-solves): a viscoelastic case records no P-derivatives (NaN), and with a law no dQ/dV
+    (the speed enters its influence too, which the law's column does not hold)."""
     from ..model import viscoelastic
     from ..model.friction import from_case
     from ..solver import sensitivity
 
     t0 = time.perf_counter()
     found = sensitivity.UNDEFINED
-    if from_case(case.friction, case.rolling).velocity_dependent:
-        log.debug("no sensitivities: the friction law depends on the slip speed")
-        converged = False
-    layer = _layer_systems(case, the_plan) if converged and case.output.layer_derivative else None
-    if converged:
+    law = from_case(case.friction, case.rolling).velocity_dependent  # no layer derivative with a law (NaN)
+    layer = _layer_systems(case, the_plan) if converged and case.output.layer_derivative and not law else None
+    if converged and not law:
         force = case.tangential.control()[0] != "creep"
         try:
             similar = hertz_applies(case)
             found = sensitivity.sensitivities(system, case.friction.mu, state, force, similar, half_width, layer)
         except np.linalg.LinAlgError as err:
             log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
-    out = found.as_dict()
+    out = _law_sensitivities(case, state, converged, half_width, solution) if law else found.as_dict()
     if case.output.layer_derivative:  # asked for: NaN where not computed
         out.setdefault("dQ_db", math.nan)
         out.setdefault("dxi_db", math.nan)
     if viscoelastic.bodies(case):
         out.update(dict.fromkeys(("dQ_dP", "dxi_dP", "da_dP", "dp0_dP"), math.nan))
+        if law:  # |V| enters the viscoelastic influence too (V tau / a), not only the law's s_a
+            out.update(dict.fromkeys(("dQ_dV", "dxi_dV"), math.nan))
     return {**out, "time_sensitivities": time.perf_counter() - t0}
+
+
+def _law_sensitivities(case: Case, state: State, converged: bool, half_width: float, solution) -> dict:
+    """The derivatives with a slip-speed friction law (:mod:`rolling_cli.solver.law_sensitivity`), NaN
+    for a failed or normal-only solve or a singular matrix (a warning)."""
+    from ..solver import law_sensitivity, sensitivity
+
+    found = sensitivity.UNDEFINED
+    if converged and solution is not None and solution.problem.tangential:
+        force = case.tangential.control()[0] != "creep"
+        try:
+            found = law_sensitivity.law_sensitivities(solution.problem, state, force, hertz_applies(case), half_width)
+        except np.linalg.LinAlgError as err:
+            log.warning("no sensitivities: the final Newton matrix is singular (%s)", err)
+    out = found.as_dict()
+    out.setdefault("dQ_dV", math.nan)
+    out.setdefault("dxi_dV", math.nan)
+    return out
 
 
 #: Relative step of the layer thickness's central difference (:mod:`rolling_cli.solver.sensitivity`).

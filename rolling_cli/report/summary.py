@@ -31,20 +31,27 @@ def _sensitivity_lines(attrs, length: str, stress: str, line: str) -> list[str]:
         return []
     names = ("dQ_dxi", "dQ_dmu", "dQ_dP", "dxi_dQ", "dxi_dmu", "dxi_dP", "da_dP", "dp0_dP")
     if all(_fmt(attrs.get(name)) == "undefined" for name in names):
-        return ["  sensitivity    not computed (a failed solve, a singular final matrix or a slip-speed friction law)"]
+        return ["  sensitivity    not computed (a failed solve or a singular final matrix)"]
     per_load = f"1/({line})"
-    return [
+    lines = [
         f"  sensitivity    creep coefficient dQ/dxi = {_fmt(attrs.get('dQ_dxi'))} {line}, "
         f"dQ/dmu = {_fmt(attrs.get('dQ_dmu'))} {line}, dQ/dP = {_fmt(attrs.get('dQ_dP'))}",
         f"{_INDENT}dxi/dQ = {_fmt(attrs.get('dxi_dQ'))} {per_load}, dxi/dmu = {_fmt(attrs.get('dxi_dmu'))}, "
         f"dxi/dP = {_fmt(attrs.get('dxi_dP'))} {per_load}",
         f"{_INDENT}da/dP = {_fmt(attrs.get('da_dP'))} {length}/({line}), "
         f"dp0/dP = {_fmt(attrs.get('dp0_dP'))} {stress}/({line})",
-    ] + (
-        [f"{_INDENT}layer: dQ/db = {_fmt(attrs['dQ_db'])} {stress}, dxi/db = {_fmt(attrs.get('dxi_db'))} 1/{length}"]
-        if "dQ_db" in attrs
-        else []
-    )
+    ]
+    if "dQ_db" in attrs:
+        lines.append(
+            f"{_INDENT}layer: dQ/db = {_fmt(attrs['dQ_db'])} {stress}, dxi/db = {_fmt(attrs.get('dxi_db'))} 1/{length}"
+        )
+    if "dQ_dV" in attrs:  # a slip-speed friction law (its dmu: the law scaled as a whole)
+        speed = f"{length}/{attrs.get('unit_time') or 'time'}"
+        lines.append(
+            f"{_INDENT}rolling speed: dQ/dV = {_fmt(attrs['dQ_dV'])} {line}/({speed}), "
+            f"dxi/dV = {_fmt(attrs.get('dxi_dV'))} 1/({speed}) (dmu: the law scaled as a whole)"
+        )
+    return lines
 
 
 def _resistance_lines(attrs, length: str, line: str) -> list[str]:

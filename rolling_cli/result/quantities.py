@@ -15,7 +15,8 @@ Units are keys into the result's unit names (:attr:`Result.units`):
 (dimensionless: ratios, counts, flags, relative values), ``"s"`` (wall time),
 the quotients ``"1/(force/length)"``, ``"length/(force/length)"``,
 ``"stress/(force/length)"`` (derivatives with respect to a load), ``"1/(length)"``
-(a creepage's derivative with respect to a length);
+(a creepage's derivative with respect to a length), ``"force/length/(length/time)"`` and
+``"1/(length/time)"`` (derivatives with respect to the rolling speed);
 ``None`` for text and booleans, which carry no unit.
 """
 
@@ -41,6 +42,8 @@ UNIT_KEYS = (
     "length/(force/length)",
     "stress/(force/length)",
     "1/(length)",
+    "force/length/(length/time)",
+    "1/(length/time)",
     None,
 )
 
@@ -284,10 +287,15 @@ class Sensitivities:
     differentiation at the final node states, P-derivatives of half-space pairs by homogeneity."""
 
     dQ_dxi: float | None = quantity("creep coefficient dQ/dxi at fixed mu and P", "force/length")
-    dQ_dmu: float | None = quantity("dQ/dmu at fixed creepage and P", "force/length")
+    dQ_dmu: float | None = quantity(
+        "dQ/dmu at fixed creepage and P (a slip-speed law: d/dmu_static with the law scaled as a whole)",
+        "force/length",
+    )
     dQ_dP: float | None = quantity("dQ/dP at fixed creepage and mu", "1")
     dxi_dQ: float | None = quantity("dxi/dQ at fixed mu and P", "1/(force/length)")
-    dxi_dmu: float | None = quantity("dxi/dmu at fixed Q and P", "1")
+    dxi_dmu: float | None = quantity(
+        "dxi/dmu at fixed Q and P (a slip-speed law: d/dmu_static with the law scaled as a whole)", "1"
+    )
     dxi_dP: float | None = quantity("dxi/dP at fixed Q and mu", "1/(force/length)")
     da_dP: float | None = quantity(
         "d(contact half-width)/dP, the case's tangential control held", "length/(force/length)"
@@ -300,6 +308,13 @@ class Sensitivities:
     )
     dxi_db: float | None = quantity(
         "dxi/d(layer thickness b) at fixed Q, mu and P (central difference of the influence in b)", "1/(length)"
+    )
+    dQ_dV: float | None = quantity(
+        "dQ/d(rolling speed |V|) at fixed creepage, friction law and P (slip-speed friction laws)",
+        "force/length/(length/time)",
+    )
+    dxi_dV: float | None = quantity(
+        "dxi/d(rolling speed |V|) at fixed Q, friction law and P (slip-speed friction laws)", "1/(length/time)"
     )
 
 

@@ -1,5 +1,7 @@
 """Sensitivities of a converged solve by implicit differentiation (issue 24, item 1).
 
+(Coulomb friction; a slip-speed friction law: :mod:`rolling_cli.solver.law_sensitivity`.)
+
 At a converged solution the node states (separation, adhesion, slip and the
 slip directions sigma) fix the reduced Newton system A z = b of
 :mod:`rolling_cli.solver.reduced`. While they do not change, the solution is
@@ -102,7 +104,9 @@ class Sensitivities:
     xi, mu, P held in turn); ``dxi_dQ`` [1/(force/length)], ``dxi_dmu`` [-],
     ``dxi_dP`` [1/(force/length)] (Q, mu, P held in turn); ``da_dP``
     [length/(force/length)] the contact half-width's, ``dp0_dP`` [stress/(force/length)]
-    the peak pressure's, with the case's tangential control held.
+    the peak pressure's, with the case's tangential control held; ``dQ_db``, ``dxi_db`` the layer
+    thickness's, ``dQ_dV`` [(force/length)/(length/time)], ``dxi_dV`` [time/length] the rolling
+    speed's (a slip-speed friction law: :mod:`rolling_cli.solver.law_sensitivity`).
     """
 
     dQ_dxi: float
@@ -115,13 +119,17 @@ class Sensitivities:
     dp0_dP: float
     dQ_db: float = math.nan
     dxi_db: float = math.nan
+    dQ_dV: float = math.nan
+    dxi_dV: float = math.nan
 
     def as_dict(self) -> dict[str, float]:
-        """The derivatives by name (the result quantities of the same names); the thickness ones only
-        when computed (not NaN)."""
+        """The derivatives by name (the result quantities of the same names); the thickness and the
+        rolling speed ones only when computed (not NaN)."""
         out = {f.name: float(getattr(self, f.name)) for f in fields(self)}
         if math.isnan(self.dQ_db) and math.isnan(self.dxi_db):
             del out["dQ_db"], out["dxi_db"]
+        if math.isnan(self.dQ_dV) and math.isnan(self.dxi_dV):  # the rolling speed's: slip-speed laws only
+            del out["dQ_dV"], out["dxi_dV"]
         return out
 
 
