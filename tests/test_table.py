@@ -122,8 +122,8 @@ def test_overlap_control_refused(tmp_path):
 
 
 def test_a_slip_speed_law_is_refused(tmp_path):
-    """The table's Hermite interpolation needs the creep slopes, which a slip-speed law does not
-    record: refused in one line naming friction.law (before: a table of NaN, exit 0)."""
+    """Tables of a slip-speed law are not built yet: refused in one line naming friction.law (before:
+    a table of NaN slopes, exit 0)."""
     data = case_dict(CARTER)
     data["friction"] = {"law": "exponential", "mu_static": 0.3, "mu_kinetic": 0.18, "slip_velocity_half": 100.0}
     data.setdefault("rolling", {})["speed"] = 45000.0

@@ -115,8 +115,8 @@ def check_request(case: Case, lo: float, hi: float, tolerance: float, source: st
         raise CaseError("friction.mu = 0: allowed: mu > 0 (Q/(mu P) needs friction)", file=source, key="friction.mu")
     if case.friction.law != "constant":
         raise CaseError(
-            f"friction.law = {case.friction.law!r}: a table interpolates with the creep slopes, which a slip-speed "
-            'law does not record yet; allowed: law = "constant"',
+            f"friction.law = {case.friction.law!r}: tables of a slip-speed law are not built yet (tried: the shipped "
+            'falling law ran out of its solve budget at 1e-3); allowed: law = "constant"',
             file=source,
             key="friction.law",
         )
