@@ -15,12 +15,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..adapt import graded
-from ..case import Case, case_to_dict
+from ..case import Case, case_to_dict, with_overrides
 from ..case.given import given
 from ..errors import ConvergenceError, ZoneError
 from ..influence.build import clear_memo
 from ..result import node_states
 from ..solver import continuation, control, predictor, strategies
+from ..solver import corner as corner_path
 from ..solver.budget import Budget
 from ..solver.formulation import State
 from ..solver.strategies import Task
@@ -71,6 +72,38 @@ ZONE_GROWTH = 1.5
 ZONE_LIMIT = 8.0
 
 
+#: The potential zone / a of a strongly coupled case (mu |beta_Dundurs| above
+#: :data:`~rolling_cli.solver.corner.STRONG`), at least: there the contact moves to one side as the
+#: creepage grows (issue 23's case: from [-1.08, 0.73] a at xi = 0 to [-1.76, 0.53] a near full slip),
+#: past the default 1.5 a; each enlarged zone was a new solve, and every iterate that touched the
+#: edge of a failed one grew the zone again (benchmarks/RESULTS.md, the corner).
+CORNER_ZONE = 2.5
+
+
+#: A strongly coupled coarse grid level may take this many times solver.max_iterations: its creepage
+#: path moves the stick/slip boundary about a node an iteration (issue 23's case, 104 coarse elements:
+#: up to 248 iterations at xi = 0.04, each a dense solve of ~200 unknowns, 0.5 s in all).
+CORNER_COARSE_BUDGET = 4
+
+
+def strongly_coupled(case: Case, the_plan: Plan) -> bool:
+    """mu |beta_Dundurs| above :data:`~rolling_cli.solver.corner.STRONG` in a coupled solve."""
+    strength = abs(0.5 * the_plan.beta_seed) * case.friction.mu
+    return the_plan.effects.strategy == "coupled" and strength > corner_path.STRONG
+
+
+def corner_zone(case: Case, the_plan: Plan) -> Case:
+    """``case`` on a zone of :data:`CORNER_ZONE` a at least when strongly coupled, with the same
+    element length (as an enlarged zone); else ``case``."""
+    disc = case.discretization
+    if not strongly_coupled(case, the_plan) or disc.zone >= CORNER_ZONE or disc.tolerance is not None:
+        return case
+    elements = int(math.ceil(disc.contact_elements * CORNER_ZONE / disc.zone - 1e-9))
+    return dataclasses.replace(
+        case, discretization=dataclasses.replace(disc, zone=CORNER_ZONE, contact_elements=elements)
+    )
+
+
 class MeshPath:
     """The mesh levels of one solve, walked by the continuation driver (module docstring).
 
@@ -94,7 +127,9 @@ class MeshPath:
         estimates_only: bool = False,
         compare_start: bool = False,
     ) -> None:
-        self.case = case
+        self.case = case if system is not None else corner_zone(case, base)
+        if self.case is not case:  # the same contact scale on the larger zone
+            base = plan(self.case, half_width=base.half_width) if base.measured else plan(self.case)
         self.base = base
         self.given = system
         self.start = start
@@ -348,6 +383,22 @@ class MeshPath:
         return (warm if level.transferred else cold), True, False
 
     @staticmethod
+    def _budget_factor(level: Level) -> int:
+        """The iteration budget of a level in solver.max_iterations: :data:`CORNER_COARSE_BUDGET` on a
+        strongly coupled coarse grid (its creepage path), else 1."""
+        corner = level.kind == "coarse grid" and strongly_coupled(level.case, level.plan)
+        return CORNER_COARSE_BUDGET if corner else 1
+
+    @staticmethod
+    def _corner_start(level: Level, system: ContactSystem) -> State | None:
+        """For a strongly coupled level under creepage control, the closed-form start at xi = 0 (where
+        :func:`~rolling_cli.solver.corner.creep_path` begins); else None."""
+        kind, value = level.case.tangential.control()
+        if kind != "creep" or value == 0.0 or not strongly_coupled(level.case, level.plan):
+            return None
+        return initial_state(with_overrides(level.case, {"tangential.creep": 0.0}), level.plan, system)
+
+    @staticmethod
     def _task(level: Level, system: ContactSystem) -> Task:
         """The solver task of a level; on a graded level its tolerance is at least the rounding floor
         of the slip differences over its smallest elements (:func:`.adapt.graded.difference_roundoff`)."""
@@ -388,7 +439,7 @@ class MeshPath:
         re-mesh event (a zone too small) or a refined level; raises :class:`_LevelFailed` otherwise.
         Returns the Newton iterations taken."""
         task = self._task(level, system)
-        budget = Budget(level.case.solver.max_iterations)
+        budget = Budget(level.case.solver.max_iterations * self._budget_factor(level))
         t0 = time.perf_counter()
         try:
             restart, level.restart = level.restart, None
@@ -400,6 +451,7 @@ class MeshPath:
                 settle=settle,
                 restart=restart,
                 restart_settle=restart is not None and _settle_cold(level.case),
+                corner=self._corner_start(level, system) if cold else None,
             )
         except ConvergenceError as err:
             level.failure, level.history = err, budget.history

@@ -10,7 +10,10 @@ is only known after the solve).
 
 from __future__ import annotations
 
+import functools
+
 from ..errors import ConvergenceError, GrossSlidingError
+from . import corner as corner_path
 from . import strategies
 from .budget import Budget
 from .formulation import State
@@ -33,13 +36,19 @@ def solve(
     settle: bool = False,
     restart: State | None = None,
     restart_settle: bool = False,
+    corner: State | None = None,
 ) -> Solution:
     """Solve ``task`` from ``start`` (``cold``: a closed-form guess, whose first node states are read
     from the pressure; ``settle``: its pressure is only approximate; ``restart``: for a warm start,
     the closed-form start tried next if it fails, ``restart_settle``: with its pressure settled
-    first; see :func:`~rolling_cli.solver.strategies.default`).
+    first; see :func:`~rolling_cli.solver.strategies.default`; ``corner``: where the coupling is strong
+    (mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`), the closed-form start at xi = 0: a
+    cold start then walks the creepage path of :func:`~rolling_cli.solver.corner.creep_path` first).
     Raises ConvergenceError or GrossSlidingError."""
     strategy = strategies.default(task, settle, restart, restart_settle)
+    if corner is not None and cold and corner_path.applies(task):
+        path = functools.partial(corner_path.creep_path, origin=corner)
+        strategy = strategies.first_success(path, strategy, name=task.formulation)
     try:
         return strategy(task, start, budget, cold=cold)
     except StrategyFailed as err:

@@ -1,0 +1,110 @@
+"""The strongly coupled corner (mu |beta_Dundurs| near 1 and above): a creepage path from xi = 0.
+
+Measured on issue 23's case (mu |beta| = 1.09, benchmarks/RESULTS.md "The strongly coupled corner:
+why creepage control failed"): the contact moves far from the closed-form start there (its centre
+by -0.2 a at xi = 0 to -0.6 a near full slip, its width from 1.8 a to 2.3 a), and the generalised
+Newton from the Hertz/Carter start passes through fragmented node states (contact with holes,
+isolated adhesion nodes inside the slip zone) whose Newton points raise the merit ten thousand
+times; the line searches then stall. From the converged neighbour one creepage step away the same
+Newton converges in about six iterations. :func:`creep_path` therefore walks the creepage from
+0 (where the closed-form start converges) to the task's, each step from the last, by the continuation driver that the coupling path uses.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from . import continuation, strategies
+from .budget import Budget
+from .formulation import State
+from .task import Solution, StrategyFailed, Task
+
+#: mu |beta_Dundurs| from which a cold start of a coupled creepage-controlled solve walks the creepage
+#: path first (the pipeline's "strong coupling" of its failure messages).
+STRONG = 0.6
+
+
+def applies(task: Task) -> bool:
+    """Whether :func:`creep_path` is a path for ``task``: a coupled solve under creepage control."""
+    kind, value = task.controls.tangential
+    return task.formulation == "coupled" and task.friction is None and kind == "creep" and value != 0.0
+
+
+#: Steps of the creepage path: the distance to the task's creepage over this many, at first
+#: (the step doubles after an easy point, halves after a failed one).
+STEPS = 8
+
+
+def _at_creep(task: Task, xi: float) -> Task:
+    return dataclasses.replace(task, controls=dataclasses.replace(task.controls, tangential=("creep", float(xi))))
+
+
+def _solver(globalisation_first, globalisation_next):
+    """Newton from a start: ``globalisation_first`` first, then ``globalisation_next`` from its best."""
+    return strategies.first_success(
+        strategies._with(strategies.direct, globalisation_first, "creep path"),
+        strategies._with(strategies.direct, globalisation_next, "creep path"),
+        name="creep path",
+    )
+
+
+def creep_path(task: Task, start: State, budget: Budget, cold: bool = False, origin: State | None = None) -> Solution:
+    """Continuation in the creepage from 0 to the task's (creepage control of a coupled task; other
+    tasks: :func:`~rolling_cli.solver.strategies.direct`). Each point is solved by Newton with the
+    monotone line search, then the watchdog from its best iterate (the line search brings a far start
+    near; the last steps of a moving stick/slip boundary raise the merit before they converge).
+    ``origin`` is the closed-form start at xi = 0 (``start`` with no traction when None)."""
+    kind, target = task.controls.tangential
+    solve = _solver(strategies.MONOTONE, strategies.WATCHDOG)
+    if kind != "creep" or task.formulation != "coupled" or target == 0.0:
+        return solve(task, start, budget, cold=cold)
+    if origin is None:
+        origin = start.copy()
+        origin.p_t = np.zeros_like(origin.p_t)
+    origin = origin.copy()
+    origin.creep = 0.0
+    try:
+        first = solve(_at_creep(task, 0.0), origin, budget, cold=cold)
+    except StrategyFailed as err:
+        raise StrategyFailed("creep path", "xi = 0", err.reason, err.best, err.residual) from None
+
+    def solve_at(xi: float, guess: State) -> tuple[Solution, int]:
+        before = budget.taken
+        guess = guess.copy()
+        guess.creep = xi
+        return solve(_at_creep(task, xi), guess, budget), budget.taken - before
+
+    points = [(0.0, first)]
+    control = continuation.StepControl(easy=8)
+    try:
+        continuation.follow(
+            _targets(target),
+            solve_at,
+            PREDICT(task),
+            points,
+            failure=StrategyFailed,
+            control=control,
+            budget=budget,
+        )
+    except continuation.ContinuationFailed as err:
+        best = err.best.state if err.best is not None else None
+        raise StrategyFailed("creep path", f"xi = {err.parameter:.4g}", err.reason, best, err.residual) from None
+    return points[-1][1]
+
+
+def _copy(task):
+    return lambda points, _s: points[-1][1].state.copy()
+
+
+def _secant(task):
+    return strategies._predict(task.system.x, task.mu)
+
+
+PREDICT = _copy
+
+
+def _targets(target: float) -> list[float]:
+    """The path's first targets: :data:`STEPS` equal steps to ``target``."""
+    return [float(v) for v in np.linspace(0.0, target, STEPS + 1)[1:]]
