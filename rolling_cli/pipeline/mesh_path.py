@@ -80,10 +80,11 @@ ZONE_LIMIT = 8.0
 CORNER_ZONE = 2.5
 
 
-#: A strongly coupled coarse grid level may take this many times solver.max_iterations: its creepage
-#: path moves the stick/slip boundary about a node an iteration (issue 23's case, 104 coarse elements:
-#: up to 248 iterations at xi = 0.04, each a dense solve of ~200 unknowns, 0.5 s in all).
-CORNER_COARSE_BUDGET = 4
+#: A strongly coupled level started cold under creepage control may take this many times
+#: solver.max_iterations: its creepage path moves the stick/slip boundary about a node an iteration
+#: (issue 23's case, 104 coarse elements: up to 248 iterations at xi = 0.04, each a dense solve of
+#: ~200 unknowns, 0.5 s in all); the level after it starts warm on the usual budget.
+CORNER_BUDGET = 4
 
 
 def strongly_coupled(case: Case, the_plan: Plan) -> bool:
@@ -383,13 +384,6 @@ class MeshPath:
         return (warm if level.transferred else cold), True, False
 
     @staticmethod
-    def _budget_factor(level: Level) -> int:
-        """The iteration budget of a level in solver.max_iterations: :data:`CORNER_COARSE_BUDGET` on a
-        strongly coupled coarse grid (its creepage path), else 1."""
-        corner = level.kind == "coarse grid" and strongly_coupled(level.case, level.plan)
-        return CORNER_COARSE_BUDGET if corner else 1
-
-    @staticmethod
     def _corner_start(level: Level, system: ContactSystem) -> State | None:
         """For a strongly coupled level under creepage control, the closed-form start at xi = 0 (where
         :func:`~rolling_cli.solver.corner.creep_path` begins); else None."""
@@ -439,7 +433,8 @@ class MeshPath:
         re-mesh event (a zone too small) or a refined level; raises :class:`_LevelFailed` otherwise.
         Returns the Newton iterations taken."""
         task = self._task(level, system)
-        budget = Budget(level.case.solver.max_iterations * self._budget_factor(level))
+        corner = self._corner_start(level, system)
+        budget = Budget(level.case.solver.max_iterations * (CORNER_BUDGET if corner is not None and cold else 1))
         t0 = time.perf_counter()
         try:
             restart, level.restart = level.restart, None
@@ -451,7 +446,7 @@ class MeshPath:
                 settle=settle,
                 restart=restart,
                 restart_settle=restart is not None and _settle_cold(level.case),
-                corner=self._corner_start(level, system) if cold else None,
+                corner=corner,
             )
         except ConvergenceError as err:
             level.failure, level.history = err, budget.history

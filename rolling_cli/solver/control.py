@@ -43,12 +43,13 @@ def solve(
     the closed-form start tried next if it fails, ``restart_settle``: with its pressure settled
     first; see :func:`~rolling_cli.solver.strategies.default`; ``corner``: where the coupling is strong
     (mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`), the closed-form start at xi = 0: a
-    cold start then walks the creepage path of :func:`~rolling_cli.solver.corner.creep_path` first).
+    cold start then walks the creepage path of :func:`~rolling_cli.solver.corner.creep_path` first, a
+    warm one tries :data:`~rolling_cli.solver.corner.NEWTON` first).
     Raises ConvergenceError or GrossSlidingError."""
     strategy = strategies.default(task, settle, restart, restart_settle)
-    if corner is not None and cold and corner_path.applies(task):
-        path = functools.partial(corner_path.creep_path, origin=corner)
-        strategy = strategies.first_success(path, strategy, name=task.formulation)
+    if corner is not None and corner_path.applies(task):
+        first = functools.partial(corner_path.creep_path, origin=corner) if cold else corner_path.NEWTON
+        strategy = strategies.first_success(first, strategy, name=task.formulation)
     try:
         return strategy(task, start, budget, cold=cold)
     except StrategyFailed as err:
