@@ -10,6 +10,7 @@ is only known after the solve).
 
 from __future__ import annotations
 
+import contextlib
 import functools
 
 from ..errors import ConvergenceError, GrossSlidingError
@@ -44,14 +45,21 @@ def solve(
     first; see :func:`~rolling_cli.solver.strategies.default`; ``corner``: where the coupling is strong
     (mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`), the closed-form start at xi = 0: a
     cold start then walks the creepage path of :func:`~rolling_cli.solver.corner.creep_path` first, a
-    warm one tries :data:`~rolling_cli.solver.corner.NEWTON` first).
+    warm one tries :data:`~rolling_cli.solver.corner.NEWTON` first, and matrix-free Newton steps are
+    solved exactly, :func:`~rolling_cli.solver.matrix_free.exact_steps`).
     Raises ConvergenceError or GrossSlidingError."""
     strategy = strategies.default(task, settle, restart, restart_settle)
+    steps = contextlib.nullcontext()
     if corner is not None and corner_path.applies(task):
         first = functools.partial(corner_path.creep_path, origin=corner) if cold else corner_path.NEWTON
         strategy = strategies.first_success(first, strategy, name=task.formulation)
+        if task.system.matrix_free:
+            from .matrix_free import exact_steps
+
+            steps = exact_steps()
     try:
-        return strategy(task, start, budget, cold=cold)
+        with steps:
+            return strategy(task, start, budget, cold=cold)
     except StrategyFailed as err:
         if task.controls.force is not None and err.best is not None:
             check_saturated(task, err.best)
