@@ -48,7 +48,6 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-
 import logging
 from dataclasses import dataclass
 
