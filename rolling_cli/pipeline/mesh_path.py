@@ -80,10 +80,10 @@ ZONE_LIMIT = 8.0
 CORNER_ZONE = 2.5
 
 
-#: A strongly coupled level started cold under creepage control may take this many times
-#: solver.max_iterations: its creepage path moves the stick/slip boundary about a node an iteration
-#: (issue 23's case, 104 coarse elements: up to 248 iterations at xi = 0.04, each a dense solve of
-#: ~200 unknowns, 0.5 s in all); the level after it starts warm on the usual budget.
+#: A strongly coupled level under creepage control may take this many times solver.max_iterations:
+#: a cold one's creepage path moves the stick/slip boundary about a node an iteration (issue 23's
+#: case, 104 coarse elements: up to 248 iterations at xi = 0.04, each a dense solve of ~200 unknowns,
+#: 0.5 s in all); a warm one may need its nudged creepages (solver/corner.py) after a failed Newton.
 CORNER_BUDGET = 4
 
 
@@ -387,8 +387,7 @@ class MeshPath:
     def _corner_start(level: Level, system: ContactSystem) -> State | None:
         """For a strongly coupled level under creepage control, the closed-form start at xi = 0 (where
         :func:`~rolling_cli.solver.corner.creep_path` begins); else None."""
-        kind, value = level.case.tangential.control()
-        if kind != "creep" or value == 0.0 or not strongly_coupled(level.case, level.plan):
+        if level.case.tangential.control()[0] != "creep" or not strongly_coupled(level.case, level.plan):
             return None
         return initial_state(with_overrides(level.case, {"tangential.creep": 0.0}), level.plan, system)
 
@@ -434,7 +433,7 @@ class MeshPath:
         Returns the Newton iterations taken."""
         task = self._task(level, system)
         corner = self._corner_start(level, system)
-        budget = Budget(level.case.solver.max_iterations * (CORNER_BUDGET if corner is not None and cold else 1))
+        budget = Budget(level.case.solver.max_iterations * (CORNER_BUDGET if corner is not None else 1))
         t0 = time.perf_counter()
         try:
             restart, level.restart = level.restart, None

@@ -45,14 +45,16 @@ def solve(
     first; see :func:`~rolling_cli.solver.strategies.default`; ``corner``: where the coupling is strong
     (mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`), the closed-form start at xi = 0: a
     cold start then walks the creepage path of :func:`~rolling_cli.solver.corner.creep_path` first, a
-    warm one tries :data:`~rolling_cli.solver.corner.NEWTON` first, and matrix-free Newton steps are
+    warm one tries :data:`~rolling_cli.solver.corner.NEWTON` and :func:`~rolling_cli.solver.corner.nudged`
+    first, and matrix-free Newton steps are
     solved exactly, :func:`~rolling_cli.solver.matrix_free.exact_steps`).
     Raises ConvergenceError or GrossSlidingError."""
     strategy = strategies.default(task, settle, restart, restart_settle)
     steps = contextlib.nullcontext()
     if corner is not None and corner_path.applies(task):
-        first = functools.partial(corner_path.creep_path, origin=corner) if cold else corner_path.NEWTON
-        strategy = strategies.first_success(first, strategy, name=task.formulation)
+        path = functools.partial(corner_path.creep_path, origin=corner)
+        first = [path] if cold else [corner_path.NEWTON, corner_path.nudged]
+        strategy = strategies.first_success(*first, strategy, name=task.formulation)
         if task.system.matrix_free:
             from .matrix_free import exact_steps
 
