@@ -50,7 +50,7 @@ def solve(
     solved exactly, :func:`~rolling_cli.solver.matrix_free.exact_steps`).
     Raises ConvergenceError or GrossSlidingError."""
     strategy = strategies.default(task, settle, restart, restart_settle)
-    steps = contextlib.nullcontext()
+    steps: contextlib.AbstractContextManager = contextlib.nullcontext()
     if corner is not None and corner_path.applies(task):
         path = functools.partial(corner_path.creep_path, origin=corner)
         first = [path] if cold else [corner_path.NEWTON, corner_path.nudged]
