@@ -72,8 +72,13 @@ ZONE_GROWTH = 1.5
 ZONE_LIMIT = 8.0
 
 
+#: mu |beta_Dundurs| above which a coupled solve takes the zone of :data:`CORNER_ZONE` (the
+#: pipeline's "strong coupling" of its failure messages).
+ZONE_COUPLING = 0.6
+
+
 #: The potential zone / a of a strongly coupled case (mu |beta_Dundurs| above
-#: :data:`~rolling_cli.solver.corner.STRONG`), at least: there the contact moves to one side as the
+#: :data:`ZONE_COUPLING`), at least: there the contact moves to one side as the
 #: creepage grows (issue 23's case: from [-1.08, 0.73] a at xi = 0 to [-1.76, 0.53] a near full slip),
 #: past the default 1.5 a; each enlarged zone was a new solve, and every iterate that touched the
 #: edge of a failed one grew the zone again (benchmarks/RESULTS.md, the corner).
@@ -87,10 +92,10 @@ CORNER_ZONE = 2.5
 CORNER_BUDGET = 4
 
 
-def strongly_coupled(case: Case, the_plan: Plan) -> bool:
-    """mu |beta_Dundurs| above :data:`~rolling_cli.solver.corner.STRONG` in a coupled solve."""
+def strongly_coupled(case: Case, the_plan: Plan, above: float = ZONE_COUPLING) -> bool:
+    """mu |beta_Dundurs| above ``above`` in a coupled solve."""
     strength = abs(0.5 * the_plan.beta_seed) * case.friction.mu
-    return the_plan.effects.strategy == "coupled" and strength > corner_path.STRONG
+    return the_plan.effects.strategy == "coupled" and strength > above
 
 
 def corner_zone(case: Case, the_plan: Plan) -> Case:
@@ -385,9 +390,12 @@ class MeshPath:
 
     @staticmethod
     def _corner_start(level: Level, system: ContactSystem) -> State | None:
-        """For a strongly coupled level under creepage control, the closed-form start at xi = 0 (where
+        """For a level under creepage control with mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`,
+        the closed-form start at xi = 0 (where
         :func:`~rolling_cli.solver.corner.creep_path` begins); else None."""
-        if level.case.tangential.control()[0] != "creep" or not strongly_coupled(level.case, level.plan):
+        if level.case.tangential.control()[0] != "creep":
+            return None
+        if not strongly_coupled(level.case, level.plan, corner_path.STRONG):
             return None
         return initial_state(with_overrides(level.case, {"tangential.creep": 0.0}), level.plan, system)
 

@@ -23,9 +23,11 @@ from .budget import Budget
 from .formulation import State
 from .task import Solution, StrategyFailed, Task
 
-#: mu |beta_Dundurs| above which a solve is strongly coupled (the pipeline's "strong coupling" of its
-#: failure messages): a cold start under creepage control walks the creepage path first.
-STRONG = 0.6
+#: mu |beta_Dundurs| above which a cold start under creepage control walks the creepage path first
+#: (and a warm one tries :data:`NEWTON` and :func:`nudged` first). At mu |beta| = 0.6 the usual chain
+#: converges alone and cheaper (issue 23's bodies with mu = 1.229, 21 creepages: 751 iterations;
+#: 2199 with the path), at 1.09 it does not (15 of 41: benchmarks/RESULTS.md).
+STRONG = 1.0
 
 
 def applies(task: Task) -> bool:
