@@ -82,8 +82,8 @@ def test_full_sliding_beyond_the_curve_is_mu_p():
 
 
 def test_weakly_coupled_cases_keep_their_zone():
-    """The corner's zone applies above mu |beta| = 0.6 only: mu = 0.3 here gives 0.15."""
-    case = load_case(corner(**{"friction.mu": 0.3, "tangential.creep": 0.002}))
+    """The corner's zone applies above mu |beta| = 1 only: mu = 1.8 here gives 0.88."""
+    case = load_case(corner(**{"friction.mu": 1.8, "tangential.creep": 0.002}))
     assert mesh_path.corner_zone(case, plan(case)) is case
     strong = load_case(corner(**{"tangential.creep": 0.002}))
     widened = mesh_path.corner_zone(strong, plan(strong))
