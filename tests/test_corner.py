@@ -17,7 +17,7 @@ import pytest
 
 from helpers import assert_contact_laws, case_dict, solve
 from rolling_cli.case import load_case
-from rolling_cli.pipeline import mesh_path
+from rolling_cli.pipeline import corner as corner_rules
 from rolling_cli.pipeline.planning import plan
 from rolling_cli.references.sliding import full_sliding_force
 
@@ -84,9 +84,9 @@ def test_full_sliding_beyond_the_curve_is_mu_p():
 def test_weakly_coupled_cases_keep_their_zone():
     """The corner's zone applies above mu |beta| = 1 only: mu = 1.8 here gives 0.88."""
     case = load_case(corner(**{"friction.mu": 1.8, "tangential.creep": 0.002}))
-    assert mesh_path.corner_zone(case, plan(case)) is case
+    assert corner_rules.corner_zone(case, plan(case)) is case
     strong = load_case(corner(**{"tangential.creep": 0.002}))
-    widened = mesh_path.corner_zone(strong, plan(strong))
-    assert widened.discretization.zone == mesh_path.CORNER_ZONE
+    widened = corner_rules.corner_zone(strong, plan(strong))
+    assert widened.discretization.zone == corner_rules.CORNER_ZONE
     # the same element length: 40 elements on 1.5 a, 67 on 2.5 a (rounded up)
-    assert widened.discretization.contact_elements == math.ceil(40 * mesh_path.CORNER_ZONE / 1.5)
+    assert widened.discretization.contact_elements == math.ceil(40 * corner_rules.CORNER_ZONE / 1.5)

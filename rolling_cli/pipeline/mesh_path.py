@@ -15,17 +15,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..adapt import graded
-from ..case import Case, case_to_dict, with_overrides
+from ..case import Case, case_to_dict
 from ..case.given import given
 from ..errors import ConvergenceError, ZoneError
 from ..influence.build import clear_memo
 from ..result import node_states
 from ..solver import continuation, control, predictor, strategies
-from ..solver import corner as corner_path
 from ..solver.budget import Budget
 from ..solver.formulation import State
 from ..solver.strategies import Task
 from ..solver.system import ContactSystem
+from .corner import CORNER_BUDGET, corner_start, corner_zone
 from .planning import (
     LAYER_ELEMENT_FRACTION,
     PRESOLVE_ZONE,
@@ -70,47 +70,6 @@ ZONE_GROWTH = 1.5
 
 
 ZONE_LIMIT = 8.0
-
-
-#: mu |beta_Dundurs| above which a coupled solve takes the zone of :data:`CORNER_ZONE`: the creepage
-#: path's threshold. From 0.6 (the pipeline's "strong coupling" of its failure messages) it was
-#: measured both ways: benchmarks/robustness.py's 2800 half-spaces (mu |beta| up to 0.75) took 24 %
-#: fewer iterations, no failure either way, but issue 23's bodies at mu |beta| = 0.6 lost one of 21
-#: creepages (xi = 0.0033; 20 of 21, 998 iterations against 21 and 751 on the 1.5 a zone).
-ZONE_COUPLING = corner_path.STRONG
-
-
-#: The potential zone / a of a strongly coupled case (mu |beta_Dundurs| above
-#: :data:`ZONE_COUPLING`), at least: there the contact moves to one side as the
-#: creepage grows (issue 23's case: from [-1.08, 0.73] a at xi = 0 to [-1.76, 0.53] a near full slip),
-#: past the default 1.5 a; each enlarged zone was a new solve, and every iterate that touched the
-#: edge of a failed one grew the zone again (benchmarks/RESULTS.md, the corner).
-CORNER_ZONE = 2.5
-
-
-#: A strongly coupled level under creepage control may take this many times solver.max_iterations:
-#: a cold one's creepage path moves the stick/slip boundary about a node an iteration (issue 23's
-#: case, 104 coarse elements: up to 248 iterations at xi = 0.04, each a dense solve of ~200 unknowns,
-#: 0.5 s in all); a warm one may need its nudged creepages (solver/corner.py) after a failed Newton.
-CORNER_BUDGET = 4
-
-
-def strongly_coupled(case: Case, the_plan: Plan, above: float = ZONE_COUPLING) -> bool:
-    """mu |beta_Dundurs| above ``above`` in a coupled solve."""
-    strength = abs(0.5 * the_plan.beta_seed) * case.friction.mu
-    return the_plan.effects.strategy == "coupled" and strength > above
-
-
-def corner_zone(case: Case, the_plan: Plan) -> Case:
-    """``case`` on a zone of :data:`CORNER_ZONE` a at least when strongly coupled, with the same
-    element length (as an enlarged zone); else ``case``."""
-    disc = case.discretization
-    if not strongly_coupled(case, the_plan) or disc.zone >= CORNER_ZONE or disc.tolerance is not None:
-        return case
-    elements = int(math.ceil(disc.contact_elements * CORNER_ZONE / disc.zone - 1e-9))
-    return dataclasses.replace(
-        case, discretization=dataclasses.replace(disc, zone=CORNER_ZONE, contact_elements=elements)
-    )
 
 
 class MeshPath:
@@ -392,17 +351,6 @@ class MeshPath:
         return (warm if level.transferred else cold), True, False
 
     @staticmethod
-    def _corner_start(level: Level, system: ContactSystem) -> State | None:
-        """For a level under creepage control with mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`,
-        the closed-form start at xi = 0 (where
-        :func:`~rolling_cli.solver.corner.creep_path` begins); else None."""
-        if level.case.tangential.control()[0] != "creep":
-            return None
-        if not strongly_coupled(level.case, level.plan, corner_path.STRONG):
-            return None
-        return initial_state(with_overrides(level.case, {"tangential.creep": 0.0}), level.plan, system)
-
-    @staticmethod
     def _task(level: Level, system: ContactSystem) -> Task:
         """The solver task of a level; on a graded level its tolerance is at least the rounding floor
         of the slip differences over its smallest elements (:func:`.adapt.graded.difference_roundoff`)."""
@@ -443,7 +391,7 @@ class MeshPath:
         re-mesh event (a zone too small) or a refined level; raises :class:`_LevelFailed` otherwise.
         Returns the Newton iterations taken."""
         task = self._task(level, system)
-        corner = self._corner_start(level, system)
+        corner = corner_start(level, system)
         budget = Budget(level.case.solver.max_iterations * (CORNER_BUDGET if corner is not None else 1))
         t0 = time.perf_counter()
         try:
