@@ -113,8 +113,12 @@ def solve(
         result.attributes["zone_note"] = (
             f"discretization.zone enlarged from {case.discretization.zone:g} to {final.case.discretization.zone:g} "
             f"(contact_elements {case.discretization.contact_elements} to "
-            f"{final.case.discretization.contact_elements}, the same element length): the contact reached the "
-            "edge of the requested zone"
+            f"{final.case.discretization.contact_elements}, the same element length): "
+            + (
+                "the coupling is strong and moves the contact to one side"
+                if final.case.discretization.zone == path.case.discretization.zone
+                else "the contact reached the edge of the requested zone"
+            )
         )
     if path.adaptation is not None:
         result.attributes.update(path.adaptation.attributes(final.plan.grid))

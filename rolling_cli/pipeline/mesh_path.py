@@ -25,6 +25,7 @@ from ..solver.budget import Budget
 from ..solver.formulation import State
 from ..solver.strategies import Task
 from ..solver.system import ContactSystem
+from .corner import CORNER_BUDGET, corner_start, corner_zone
 from .planning import (
     LAYER_ELEMENT_FRACTION,
     PRESOLVE_ZONE,
@@ -94,7 +95,9 @@ class MeshPath:
         estimates_only: bool = False,
         compare_start: bool = False,
     ) -> None:
-        self.case = case
+        self.case = case if system is not None else corner_zone(case, base)
+        if self.case is not case:  # the same contact scale on the larger zone
+            base = plan(self.case, half_width=base.half_width) if base.measured else plan(self.case)
         self.base = base
         self.given = system
         self.start = start
@@ -395,7 +398,8 @@ class MeshPath:
         re-mesh event (a zone too small) or a refined level; raises :class:`_LevelFailed` otherwise.
         Returns the Newton iterations taken."""
         task = self._task(level, system)
-        budget = Budget(level.case.solver.max_iterations)
+        corner = corner_start(level, system)
+        budget = Budget(level.case.solver.max_iterations * (CORNER_BUDGET if corner is not None else 1))
         t0 = time.perf_counter()
         try:
             restart, level.restart = level.restart, None
@@ -407,6 +411,7 @@ class MeshPath:
                 settle=settle,
                 restart=restart,
                 restart_settle=restart is not None and _settle_cold(level.case),
+                corner=corner,
             )
         except ConvergenceError as err:
             level.failure, level.history = err, budget.history

@@ -10,7 +10,11 @@ is only known after the solve).
 
 from __future__ import annotations
 
+import contextlib
+import functools
+
 from ..errors import ConvergenceError, GrossSlidingError
+from . import corner as corner_path
 from . import strategies
 from .budget import Budget
 from .formulation import State
@@ -33,15 +37,31 @@ def solve(
     settle: bool = False,
     restart: State | None = None,
     restart_settle: bool = False,
+    corner: State | None = None,
 ) -> Solution:
     """Solve ``task`` from ``start`` (``cold``: a closed-form guess, whose first node states are read
     from the pressure; ``settle``: its pressure is only approximate; ``restart``: for a warm start,
     the closed-form start tried next if it fails, ``restart_settle``: with its pressure settled
-    first; see :func:`~rolling_cli.solver.strategies.default`).
+    first; see :func:`~rolling_cli.solver.strategies.default`; ``corner``: where the coupling is strong
+    (mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`), the closed-form start at xi = 0: a
+    cold start then walks the creepage path of :func:`~rolling_cli.solver.corner.creep_path` first, a
+    warm one tries :data:`~rolling_cli.solver.corner.NEWTON` and :func:`~rolling_cli.solver.corner.nudged`
+    first, and matrix-free Newton steps are
+    solved exactly, :func:`~rolling_cli.solver.matrix_free.exact_steps`).
     Raises ConvergenceError or GrossSlidingError."""
     strategy = strategies.default(task, settle, restart, restart_settle)
+    steps: contextlib.AbstractContextManager = contextlib.nullcontext()
+    if corner is not None and corner_path.applies(task):
+        path = functools.partial(corner_path.creep_path, origin=corner)
+        first = [path] if cold else [corner_path.NEWTON, corner_path.nudged]
+        strategy = strategies.first_success(*first, strategy, name=task.formulation)
+        if task.system.matrix_free:
+            from .matrix_free import exact_steps
+
+            steps = exact_steps()
     try:
-        return strategy(task, start, budget, cold=cold)
+        with steps:
+            return strategy(task, start, budget, cold=cold)
     except StrategyFailed as err:
         if task.controls.force is not None and err.best is not None:
             check_saturated(task, err.best)

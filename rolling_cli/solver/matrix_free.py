@@ -46,6 +46,8 @@ iterations.
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import logging
 from dataclasses import dataclass
 
@@ -316,10 +318,26 @@ class ReducedOperator:
         return solve_dense(matrix, self.difference(self.row_scale * rhs))
 
 
+#: Inside :func:`exact_steps`: every Newton step is solved to the round-off floor.
+_EXACT: contextvars.ContextVar[bool] = contextvars.ContextVar("exact_steps", default=False)
+
+
+@contextlib.contextmanager
+def exact_steps():
+    """Solve every Newton step to the round-off floor within this block (the strongly coupled corner:
+    issue 23's case at xi = 0.006 on 1251 nodes failed with the inexact far steps, from the same start
+    converged in 110 iterations with exact ones, as the dense LU does: benchmarks/RESULTS.md)."""
+    token = _EXACT.set(True)
+    try:
+        yield
+    finally:
+        _EXACT.reset(token)
+
+
 def forcing_target(residual: float) -> float:
     """The Krylov target of a Newton step from an iterate of relative residual ``residual`` [-]
     (see :data:`FORCING`); 0 asks for the round-off floor, which the solve never goes below."""
-    return FORCING * residual if residual >= FORCING_FROM else 0.0
+    return FORCING * residual if residual >= FORCING_FROM and not _EXACT.get() else 0.0
 
 
 def operator(problem: Problem, state: State, lay: Layout, ev: Evaluation) -> ReducedOperator:

@@ -1,0 +1,144 @@
+"""The strongly coupled corner (mu |beta_Dundurs| near 1 and above): a creepage path from xi = 0.
+
+Measured on issue 23's case (mu |beta| = 1.09, benchmarks/RESULTS.md "The strongly coupled corner:
+why creepage control failed, and the fix"): the contact moves far from the closed-form start there
+(from [-1.08, 0.73] a at xi = 0 to [-1.76, 0.53] a near full slip, against Hertz's [-1, 1] a), and
+the generalised Newton from the Hertz/Carter start passes through fragmented node states (contact
+with holes, isolated adhesion nodes inside the slip zone) whose Newton points raise the merit up to
+ten thousand times; the line searches then stall. From the converged neighbour one creepage step
+away the same Newton converges in about six iterations. :func:`creep_path` therefore walks the
+creepage from 0 (where the closed-form start converges) to the task's, each step from the last
+solution (the boundary-secant predictor of the other paths was measured worse here: 2 of 11 creepages
+against 11 of 11 on 104 coarse elements), by the continuation driver that the coupling path uses.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from . import continuation, strategies
+from .budget import Budget
+from .formulation import State
+from .task import Solution, StrategyFailed, Task
+
+#: mu |beta_Dundurs| above which a cold start under creepage control walks the creepage path first
+#: (and a warm one tries :data:`NEWTON` and :func:`nudged` first). At mu |beta| = 0.6 the usual chain
+#: converges alone and cheaper (issue 23's bodies with mu = 1.229, 21 creepages: 751 iterations;
+#: 2199 with the path), at 1.09 it does not (15 of 41: benchmarks/RESULTS.md).
+STRONG = 1.0
+
+
+def applies(task: Task) -> bool:
+    """Whether :func:`creep_path` is a path for ``task``: a coupled solve under creepage control."""
+    kind, value = task.controls.tangential
+    return task.formulation == "coupled" and task.friction is None and kind == "creep"
+
+
+#: Steps of the creepage path: the distance to the task's creepage over this many, at first
+#: (the step doubles after an easy point, halves after a failed one).
+STEPS = 8
+
+
+def _at_creep(task: Task, xi: float) -> Task:
+    return dataclasses.replace(task, controls=dataclasses.replace(task.controls, tangential=("creep", float(xi))))
+
+
+def _solver(globalisation_first, globalisation_next):
+    """Newton from a start: ``globalisation_first`` first, then ``globalisation_next`` from its best."""
+    return strategies.first_success(
+        strategies._with(strategies.direct, globalisation_first, "creep path"),
+        strategies._with(strategies.direct, globalisation_next, "creep path"),
+        name="creep path",
+    )
+
+
+#: Newton with the monotone line search, then the watchdog from its best iterate: the line search
+#: brings a far start near, the watchdog lets the last steps of a moving stick/slip boundary raise
+#: the merit before they converge (from the converged neighbour 0.002 creepage away on 62 coarse
+#: elements: 20 of 20 steps converge, 6.4 iterations each; the monotone search alone 15, the
+#: watchdog alone 18).
+NEWTON = _solver(strategies.MONOTONE, strategies.WATCHDOG)
+
+
+def creep_path(task: Task, start: State, budget: Budget, cold: bool = False, origin: State | None = None) -> Solution:
+    """Continuation in the creepage from 0 to the task's (creepage control of a coupled task; other
+    tasks: :data:`NEWTON` from ``start``), each point solved by :data:`NEWTON` on the shared budget.
+    ``origin`` is the closed-form start at xi = 0 (``start`` with no traction when None)."""
+    kind, target = task.controls.tangential
+    solve = NEWTON
+    if kind != "creep" or task.formulation != "coupled":
+        return solve(task, start, budget, cold=cold)
+    if origin is None:
+        origin = start.copy()
+        origin.p_t = np.zeros_like(origin.p_t)
+    origin = origin.copy()
+    origin.creep = 0.0
+    try:
+        first = solve(_at_creep(task, 0.0), origin, budget, cold=cold)
+    except StrategyFailed as err:
+        raise StrategyFailed("creep path", "xi = 0", err.reason, err.best, err.residual) from None
+    if target == 0.0:
+        return first
+
+    def solve_at(xi: float, guess: State) -> tuple[Solution, int]:
+        before = budget.taken
+        guess = guess.copy()
+        guess.creep = xi
+        return solve(_at_creep(task, xi), guess, budget), budget.taken - before
+
+    points = [(0.0, first)]
+    control = continuation.StepControl(easy=8)
+    try:
+        continuation.follow(
+            _targets(target),
+            solve_at,
+            lambda points, _s: points[-1][1].state.copy(),
+            points,
+            failure=StrategyFailed,
+            control=control,
+            budget=budget,
+        )
+    except continuation.ContinuationFailed as err:
+        best = err.best.state if err.best is not None else None
+        raise StrategyFailed("creep path", f"xi = {err.parameter:.4g}", err.reason, best, err.residual) from None
+    return points[-1][1]
+
+
+def _targets(target: float) -> list[float]:
+    """The path's first targets: :data:`STEPS` equal steps to ``target``."""
+    return [float(v) for v in np.linspace(0.0, target, STEPS + 1)[1:]]
+
+
+#: The creepages, as factors of the task's, from which :func:`nudged` walks to it.
+NUDGES = (0.97, 1.03)
+
+
+def nudged(task: Task, start: State, budget: Budget, cold: bool = False) -> Solution:
+    """:data:`NEWTON` at a creepage a few per cent off the task's (each of :data:`NUDGES`) from
+    ``start``, then at the task's from that solution (creepage control of a coupled task).
+
+    For a start transferred from a coarser grid whose Newton cycles at the stick/slip boundary: on
+    issue 23's case (417 elements, xi = 0.016) Newton from the 104-element solution alternated
+    between adhesion zones of 147 and 150 nodes; from the converged solution at xi = 0.0158 it took
+    9 iterations (benchmarks/RESULTS.md). The discrete node states at a neighbouring creepage
+    differ, and so does the cycle."""
+    target = task.controls.tangential[1]
+    if not applies(task) or target == 0.0:
+        return NEWTON(task, start, budget, cold=cold)
+    failure = None
+    for factor in NUDGES:
+        guess = start.copy()
+        guess.creep = factor * target
+        try:
+            near = NEWTON(_at_creep(task, factor * target), guess, budget, cold=cold)
+            guess = near.state.copy()
+            guess.creep = target
+            return NEWTON(task, guess, budget)
+        except StrategyFailed as err:
+            failure = err
+            if budget.exhausted:
+                break
+    assert failure is not None
+    raise StrategyFailed("nudged", failure.stage, failure.reason, failure.best, failure.residual) from None
