@@ -142,6 +142,7 @@ def _phi_series() -> tuple[np.ndarray, np.ndarray]:
 PHI_TERMS = 25
 _PHI_P, _PHI_Q = _phi_series()
 
+
 def psi_moments(a, top: int = 2) -> np.ndarray:
     """Psi_j(a) = int_0^a t^j Phi(t) dt [-], j = 0..top, shape a.shape + (top + 1,): the power series
     for |a| < 1/2, else the recursion Psi_j = a^j Phi - j Psi_(j-1) + a^(j+1) ((ln|a| + gamma)/(j + 1)
@@ -321,7 +322,7 @@ def _halfplane_history(grid: ContactGrid, b: float, scale: float) -> tuple[np.nd
     if abs(b) <= HUGE * 2.0 * grid.half_width:
         return quadratic_offsets(grid, b, scale)
     from rolling_cli.model.grid import shape_integrals
-    
+
     half = 0.5 * grid.element_length
     integrals = np.broadcast_to(half * shape_integrals(2), (2 * grid.elements - 1, 3, 3))
     constant = math.log(abs(b)) - EULER_GAMMA - math.log(scale)

@@ -160,6 +160,15 @@ def serial(task: Callable[[float, int], object], journal: Journal | None) -> Row
 
 
 @contextlib.contextmanager
+def in_process(task: Callable[[float, int], object], journal: Journal | None) -> Iterator[RowSolver]:
+    """:func:`serial` with one BLAS thread, as the workers run (the sweep's serial path does the
+    same): multi-threaded BLAS sums in another order, so only then is the serial table the
+    workers' bit for bit, whatever the caller's thread settings."""
+    with blas.single_threaded():
+        yield serial(task, journal)
+
+
+@contextlib.contextmanager
 def on_cluster(scheduler: str, task: Callable[[float, int], object], journal: Journal | None) -> Iterator[RowSolver]:
     """Rows as tasks of a Dask cluster (``scheduler``: tcp://HOST:PORT or local:N, as ``rollc sweep
     --scheduler``; :func:`rolling_cli.study.distributed.cluster`), each finished row journalled as it

@@ -286,7 +286,7 @@ def build_friction(
     elif workers > 1:
         runner = table_rows.in_workers(workers, task, journal)
     else:
-        runner = contextlib.nullcontext(table_rows.serial(task, journal))
+        runner = table_rows.in_process(task, journal)
     with runner as solve_rows:
         rows, in_mu, solves = _refine_in_mu(solve_rows, mu_low, mu_high, initial_rows, tolerance, max_cases)
     ordered = [rows[mu] for mu in sorted(rows)]
