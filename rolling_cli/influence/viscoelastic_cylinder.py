@@ -61,8 +61,8 @@ from ..model.viscoelastic import Viscoelastic
 from ..references import annulus, layer_fourier
 from . import Compliance
 from .halfplane import _length_scale, _toeplitz_gather, log_offsets, sign_offsets
-from .viscoelastic import history_lengths, quadratic_offsets
-from .viscoelastic_layer import upstream_filter
+from .viscoelastic import quadratic_offsets
+from .viscoelastic_layer import relaxed_body, upstream_filter
 
 __all__ = ["mode_kernels", "offsets", "exact_offsets", "history_offsets", "body_compliance"]
 
@@ -259,16 +259,7 @@ def body_compliance(
     annulus ``elastic`` (built with E = E_g) [length/stress]: ``radius`` R and ``inner_radius``
     (the shaft's or the core's) [length], ``speed`` |V| [length/time], ``direction`` sgn(V).
     J_r K_BEM + sum_i c_i [(C_i - 1)[K_M] + (F_i - 1)[E_g K_BEM - K_M]] (module docstring)."""
-    if elastic.S_nt is None or elastic.S_tn is None:
-        raise ValueError("the BEM cylinder carries its coupling blocks")
-    factor = model.relaxed / model.glassy  # J_r E_g
-    blocks = [elastic.S_nn, elastic.S_tt, elastic.S_nt, elastic.S_tn]
-    out = [factor * block for block in blocks]
-    terms = [
-        (c, b)
-        for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True)
-        if c != 0.0 and b != 0.0
-    ]
+    blocks, out, terms = relaxed_body(elastic, model, speed, direction)
     if not terms:
         return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
     exact, offsets_all = offsets(grid, radius, inner_radius, model.poisson, [b for _, b in terms])

@@ -266,16 +266,7 @@ def body_compliance(
     the nodes by :func:`upstream_filter`. K_F is :func:`history_offsets` at |b| = :data:`FAST`
     (C_b[K_F] -> 0), so both limits are exact: b_i -> 0 the relaxed BEM layer, |b_i| -> inf
     J_g K_BEM. The filter is the only approximation in between (E is known at the nodes only)."""
-    if elastic.S_nt is None or elastic.S_tn is None:
-        raise ValueError("the BEM layer carries its coupling blocks")
-    factor = model.relaxed / model.glassy  # J_r E_g
-    blocks = [elastic.S_nn, elastic.S_tt, elastic.S_nt, elastic.S_tn]
-    out = [factor * block for block in blocks]
-    terms = [
-        (c, b)
-        for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True)
-        if c != 0.0 and b != 0.0  # no history: E_r = E_g, or at rest
-    ]
+    blocks, out, terms = relaxed_body(elastic, model, speed, direction)
     if not terms:
         return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
     fast = math.copysign(FAST * 2.0 * grid.half_width, terms[0][1])
@@ -294,3 +285,23 @@ def body_compliance(
             term *= c
             out[k] += term
     return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
+
+
+def relaxed_body(
+    elastic: Compliance, model: Viscoelastic, speed: float, direction: int
+) -> tuple[list, list, list[tuple[float, float]]]:
+    """The slow-rolling part of a viscoelastic BEM body (layer or finite cylinder) built at E = E_g:
+    its four blocks [S_nn, S_tt, S_nt, S_tn] [length/stress], those times J_r E_g, and the history terms
+    (c_i [1/stress], b_i [length]) that act (none: E_r = E_g, or at rest). Raises ValueError when the
+    BEM body lacks its coupling blocks."""
+    if elastic.S_nt is None or elastic.S_tn is None:
+        raise ValueError("the viscoelastic BEM body carries its coupling blocks")
+    factor = model.relaxed / model.glassy  # J_r E_g
+    blocks = [elastic.S_nn, elastic.S_tt, elastic.S_nt, elastic.S_tn]
+    out = [factor * block for block in blocks]
+    terms = [
+        (c, b)
+        for c, b in zip(model.compliances, history_lengths(model, speed, direction), strict=True)
+        if c != 0.0 and b != 0.0
+    ]
+    return blocks, out, terms
