@@ -69,9 +69,14 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
             inputs = bem_inputs(case, the_plan, body)
             found, origin[label] = _bem_body(inputs, use_cache)
             if body.finite and from_body(body) is not None:  # periodic history round the annulus
-                found = _viscoelastic_cylinder(
-                    found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
-                )
+                key = (tuple(sorted(inputs.items())), body, float(case.rolling.speed), case.rolling.direction)
+                if key not in _cylinder_memo:  # kept: the result's power balance reads it again
+                    _cylinder_memo[key] = _viscoelastic_cylinder(
+                        found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
+                    )
+                    if len(_cylinder_memo) > 2:
+                        _cylinder_memo.pop(next(iter(_cylinder_memo)))
+                found = _cylinder_memo[key]
             elif viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
                 found = _viscoelastic_layer(
                     found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
@@ -155,11 +160,14 @@ def _bem_body(inputs: dict, use_cache: bool) -> tuple[Compliance, str]:
 
 
 _memo: dict[tuple, Compliance] = {}
+#: The last viscoelastic finite cylinders' compliances (body, grid and speed in the key).
+_cylinder_memo: dict[tuple, Compliance] = {}
 
 
 def clear_memo() -> None:
     """Forget the in-process influence memo (benchmarks time cold builds)."""
     _memo.clear()
+    _cylinder_memo.clear()
     _halfplane.cache_clear()
     _viscoelastic.cache_clear()
     from . import viscoelastic

@@ -26,7 +26,11 @@ axial length:
 
 In steady state the shafts' power balances the losses: |V| M / R* =
 hysteresis + frictional power + xi Q |V| (the last the power of the speed
-difference V_A - V_B = xi |V| through Q).
+difference V_A - V_B = xi |V| through Q). For a finite roller on a rigid flat
+the pressure is radial (no moment about the shaft) and that balance needs
+the tractions' displaced points: the rolling-resistance force F_rr of
+:mod:`.power_balance` (``rolling_resistance_force``; the coefficient is then
+F_rr / P, M / (P R) in the half-space limit).
 """
 
 from __future__ import annotations
@@ -36,7 +40,7 @@ import math
 import numpy as np
 
 from ..references import annulus, hysteresis, layer_fourier
-from . import viscoelastic
+from . import power_balance, viscoelastic
 
 #: Cells per quadratic element for the hysteresis (the Fourier formula takes piecewise-constant
 #: tractions): the cell averages of the element's quadratic. The step approximation adds a loss of
@@ -58,10 +62,12 @@ def quadratic_cells(p: np.ndarray) -> np.ndarray:
     return (np.asarray(p, dtype=float).reshape(-1, 3) @ averages.T).reshape(-1)
 
 
-def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) -> dict:
+def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float, surface=None) -> dict:
     """The rolling-resistance quantities of a solved viscoelastic case (declared in
     :mod:`rolling_cli.result.quantities`); ``radius`` R* [length], ``system`` its
-    :class:`~rolling_cli.solver.system.ContactSystem` (node positions, weights, spacing)."""
+    :class:`~rolling_cli.solver.system.ContactSystem` (node positions, weights, spacing);
+    ``surface`` (w, u) [length], finite body A's surface displacements against a rigid flat
+    (:func:`finite_on_flat`), or None."""
     x, w = system.x, system.weights
     d = float(case.rolling.direction)
     load = float(-(w @ p_n))
@@ -94,15 +100,32 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) ->
                 centres, half, p_n, sign * p_t, float(body.layer_thickness), model.compliances,
                 model.lengths(speed), model.poisson,
             )  # fmt: skip
+    coefficient = moment / (load * radius) if load > 0.0 else math.nan
+    balance = dict.fromkeys(("rolling_resistance_force", "shaft_torque_displacement"), math.nan)
+    if surface is not None and finite_on_flat(case):  # the finite roller's power balance
+        balance = power_balance.roller_on_flat(
+            x, 3.0 * float(system.spacing), r_a, int(d), p_n, p_t, surface[0], surface[1]
+        )
+        coefficient = balance["rolling_resistance_force"] / load if load > 0.0 else math.nan
     return {
+        **balance,
         "rolling_resistance_moment": moment,
         "rolling_resistance_moment_a": m_a,
         "rolling_resistance_moment_b": m_b,
-        "rolling_resistance_coefficient": moment / (load * radius) if load > 0.0 else math.nan,
+        "rolling_resistance_coefficient": coefficient,
         "pressure_centroid": centroid,
         "pressure_shift": -d * centroid,
         "hysteresis_power": power,
     }
+
+
+def finite_on_flat(case) -> bool:
+    """True for a finite body A (quadratic elements) against a rigid flat B: the scope of
+    :func:`.power_balance.roller_on_flat`."""
+    a, b = case.bodies.A, case.bodies.B
+    return bool(
+        a.finite and b.rigid and math.isinf(float(b.radius)) and case.discretization.element == "quadratic"
+    )
 
 
 def _annulus_power(system, p_n, t, body, model, speed: float) -> float:

@@ -37,6 +37,20 @@ def _attach_stresses(case: Case, the_plan: Plan, result: Result) -> Result:
     return attach(case, the_plan, result)
 
 
+def _finite_surface(case: Case, the_plan: Plan, p_n: np.ndarray, p_t: np.ndarray):
+    """A finite body A's surface displacements w (into it) and u (along its arc) [length] against a
+    rigid flat, from the pair compliance (memoised: the one solved): w = -R (hoop_n p_n + hoop_t p_t),
+    u = S_tn p_n + S_tt p_t (the flat adds nothing); None without the coupling blocks."""
+    from ..influence.build import pair_compliance
+
+    pair, _ = pair_compliance(case, the_plan)
+    if pair.hoop_n is None or pair.hoop_t is None or pair.S_tn is None:
+        return None
+    radius = float(case.bodies.A.radius)
+    w = -radius * (pair.hoop_n @ p_n + pair.hoop_t @ p_t)
+    return w, pair.S_tn @ p_n + pair.S_tt @ p_t
+
+
 def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dict:
     """``linear_solver`` and, matrix-free, this solve's Krylov counts from its Newton history
     (:func:`.solver.matrix_free.result_attributes`)."""
@@ -116,7 +130,8 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     if is_viscoelastic(a) or is_viscoelastic(b):  # rolling resistance, pressure shift, hysteresis (none if elastic)
         from ..model import resistance
 
-        attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius))
+        surface = _finite_surface(case, the_plan, p_n, p_t) if resistance.finite_on_flat(case) else None
+        attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius, surface))
     reference = _closed_forms(case, system.x, the_plan.radius, q, load, ref_a, ref_p0, attrs)
     result = Result(
         x=system.x,

@@ -335,7 +335,21 @@ class RollingResistance:
         "(NaN for a flat)",
         "moment/length",
     )
-    rolling_resistance_coefficient: float | None = quantity("rolling-resistance coefficient M / (P R*)", "1")
+    rolling_resistance_coefficient: float | None = quantity(
+        "rolling-resistance coefficient M / (P R*); for a finite roller on a rigid flat F_rr / P "
+        "(rolling_resistance_force)",
+        "1",
+    )
+    rolling_resistance_force: float | None = quantity(
+        "finite roller on a rigid flat: rolling-resistance force, the flat's drive beyond the shaft torque / R, "
+        "sgn(V) [sum w p_n tan(theta) (1 + eps) + sum w (p_n u + p_t w) / R] (= losses / |V| + xi Q)",
+        "force/length",
+    )
+    shaft_torque_displacement: float | None = quantity(
+        "finite roller on a rigid flat: the shaft torque's part from the tractions' displaced points, "
+        "-sum w (w p_t + u p_n) (the torque transmitted is R Q plus this)",
+        "moment/length",
+    )
     pressure_centroid: float | None = quantity("centroid of the pressure, sum w (-p_n) x / P", "length")
     pressure_shift: float | None = quantity("shift of the pressure centroid towards the leading edge", "length")
     hysteresis_power: float | None = quantity(
