@@ -66,22 +66,7 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
         elif label == "B" and the_plan.effects.identical_bodies:
             bodies[label], origin[label] = bodies["A"], "reused"
         else:
-            inputs = bem_inputs(case, the_plan, body)
-            found, origin[label] = _bem_body(inputs, use_cache)
-            if body.finite and from_body(body) is not None:  # periodic history round the annulus
-                key = (tuple(sorted(inputs.items())), body, float(case.rolling.speed), case.rolling.direction)
-                if key not in _cylinder_memo:  # kept: the result's power balance reads it again
-                    _cylinder_memo[key] = _viscoelastic_cylinder(
-                        found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
-                    )
-                    if len(_cylinder_memo) > 2:
-                        _cylinder_memo.pop(next(iter(_cylinder_memo)))
-                found = _cylinder_memo[key]
-            elif viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
-                found = _viscoelastic_layer(
-                    found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
-                )
-            bodies[label] = found
+            bodies[label], origin[label] = deformable_body(case, the_plan, body, use_cache)
     if a.finite or b.finite:  # exact geometry and hoop strain of finite cylinders
         from . import finite as _finite
 
@@ -90,6 +75,25 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
         pair = finite_pair(bodies["A"], bodies["B"], a.radius, b.radius, a.finite, b.finite, coupling)
         return pair, origin
     return combine(bodies["A"], bodies["B"], coupling), origin
+
+
+def deformable_body(case, the_plan, body, use_cache: bool = True) -> tuple[Compliance, str]:
+    """One deformable body's own compliance on the plan's grid [length/stress] (BEM, with the
+    viscoelastic history terms of a finite cylinder or a cover) and where it came from."""
+    inputs = bem_inputs(case, the_plan, body)
+    found, origin = _bem_body(inputs, use_cache)
+    if body.finite and from_body(body) is not None:  # periodic history round the annulus
+        key = (tuple(sorted(inputs.items())), body, float(case.rolling.speed), case.rolling.direction)
+        if key not in _cylinder_memo:  # kept: the result's power balance reads it again
+            _cylinder_memo[key] = _viscoelastic_cylinder(
+                found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction
+            )
+            if len(_cylinder_memo) > 2:
+                _cylinder_memo.pop(next(iter(_cylinder_memo)))
+        found = _cylinder_memo[key]
+    elif viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
+        found = _viscoelastic_layer(found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction)
+    return found, origin
 
 
 def bem_inputs(case, the_plan, body) -> dict:

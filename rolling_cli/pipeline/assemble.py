@@ -38,17 +38,14 @@ def _attach_stresses(case: Case, the_plan: Plan, result: Result) -> Result:
 
 
 def _finite_surface(case: Case, the_plan: Plan, p_n: np.ndarray, p_t: np.ndarray):
-    """A finite body A's surface displacements w (into it) and u (along its arc) [length] against a
-    rigid flat, from the pair compliance (memoised: the one solved): w = -R (hoop_n p_n + hoop_t p_t),
-    u = S_tn p_n + S_tt p_t (the flat adds nothing); None without the coupling blocks."""
-    from ..influence.build import pair_compliance
+    """A finite body A's surface displacements w (into it) and u (along its arc) [length], from its
+    own compliance (memoised: the one solved), all four blocks."""
+    from ..influence.build import deformable_body
 
-    pair, _ = pair_compliance(case, the_plan)
-    if pair.hoop_n is None or pair.hoop_t is None or pair.S_tn is None:
+    body, _ = deformable_body(case, the_plan, case.bodies.A)
+    if body.S_nt is None or body.S_tn is None:
         return None
-    radius = float(case.bodies.A.radius)
-    w = -radius * (pair.hoop_n @ p_n + pair.hoop_t @ p_t)
-    return w, pair.S_tn @ p_n + pair.S_tt @ p_t
+    return body.S_nn @ p_n + body.S_nt @ p_t, body.S_tn @ p_n + body.S_tt @ p_t
 
 
 def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dict:
