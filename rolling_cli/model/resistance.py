@@ -123,9 +123,7 @@ def finite_on_flat(case) -> bool:
     """True for a finite body A (quadratic elements) against a rigid flat B: the scope of
     :func:`.power_balance.roller_on_flat`."""
     a, b = case.bodies.A, case.bodies.B
-    return bool(
-        a.finite and b.rigid and math.isinf(float(b.radius)) and case.discretization.element == "quadratic"
-    )
+    return bool(a.finite and b.rigid and math.isinf(float(b.radius)) and case.discretization.element == "quadratic")
 
 
 def _annulus_power(system, p_n, t, body, model, speed: float) -> float:
