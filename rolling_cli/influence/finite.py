@@ -46,7 +46,8 @@ the cover's change of rolling radius.
 the arc. By the equilibrium of the body (the bore's reaction balances the
 contact tractions: tests/test_finite_shaft.py), Q is exactly the torque the
 shaft transmits divided by R (``shaft_torque``: the pressure, radial, has no
-moment about the centre), the creep force a rig's torque meter reads; the
+moment about the centre), the creep force a rig's torque meter reads (to first order in the displacements: the
+tractions' displaced points add T_u, :mod:`rolling_cli.model.power_balance`); the
 force on the shaft's bearing (:func:`shaft_quantities`) is the vector
 resultant: along x, Q's projection plus the pressure's, P e / R for a
 pressure centroid e off the line of centres. The tangential traction shifts

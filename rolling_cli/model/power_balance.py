@@ -31,7 +31,8 @@ g0 - d + cos(theta) w + sin(theta) u = 0 with g0 = R (1 - cos theta), so
 
 Each term on the right is a force on the pair's kinematics: the first is the
 horizontal resultant of the pressure on the stretched arc (the pressure
-pushes the flat back along x: the half-space's sum w p_n x / R to O(a/R)^2);
+pushes the flat back along x: the half-space's sum w p_n x / R up to the
+strain eps and O(a/R)^2);
 the second is T's second-order part divided by R: the moment about the shaft
 of the tractions at their displaced points of application (lever R - w for
 the shear, u for the radial pressure), T = -(R Q + T_u), T_u =
