@@ -61,9 +61,16 @@ def _resistance_lines(attrs, length: str, line: str) -> list[str]:
         value = attrs.get(f"rolling_resistance_moment_{label}", math.nan)
         if not math.isnan(value):
             moments += f", M_{label.upper()} = {_fmt(value)} (shaft {label.upper()})"
+    coefficient = f"M/(P R*) = {_fmt(attrs['rolling_resistance_coefficient'])}"
+    force = attrs.get("rolling_resistance_force", math.nan)
+    if force is not None and not math.isnan(force):  # a finite roller on a flat (model/power_balance.py)
+        coefficient = (
+            f"F_rr/P = {_fmt(attrs['rolling_resistance_coefficient'])}, F_rr = {_fmt(force)} {line} "
+            f"(the flat's drive beyond the shaft torque / R)"
+        )
     return [
         f"  resistance     {moments}",
-        f"  coefficient    M/(P R*) = {_fmt(attrs['rolling_resistance_coefficient'])}",
+        f"  coefficient    {coefficient}",
         f"  pressure shift {_fmt(attrs['pressure_shift'])} {length} towards the leading edge "
         f"(centroid x = {_fmt(attrs['pressure_centroid'])} {length})",
         f"  hysteresis     {_fmt(attrs['hysteresis_power'])} {line} per unit rolling speed (loss in the bodies)",
