@@ -57,10 +57,10 @@ def test_shipped_rubber_roller_balances():
     assert naive - sign * r.shaft_torque_displacement / 25.0 == pytest.approx(losses, rel=5e-3)
 
 
-@pytest.mark.parametrize(("load", "speed", "ratio"), [(0.2, 0.4, 0.039), (17.0, 3.0, 0.30)])
+@pytest.mark.parametrize(("load", "speed", "ratio"), [(0.35, 0.5, 0.05), (17.0, 3.0, 0.30)])
 def test_driven_roller_balances_at_small_and_large_a_over_r(load, speed, ratio):
-    """The hollow roller at a/R = 0.04 and 0.3 (V tau_c / a ~ 1): F_rr = L within 0.5 % (measured
-    0.18 % and 0.32 %), while M / R is off by O(a/R) (measured 4.2 % and 64 %)."""
+    """The hollow roller at a/R = 0.05 and 0.3 (V tau_c / a ~ 1): F_rr = L within 0.5 % (measured
+    0.17 % and 0.32 %), while M / R is off by O(a/R) (measured 6.0 % and 64 %)."""
     r = solve(load_case(_hollow(load, speed)))
     assert r.contact_half_width / 10.0 == pytest.approx(ratio, rel=0.05)
     losses = _losses(r)
