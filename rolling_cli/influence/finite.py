@@ -80,7 +80,7 @@ import numpy as np
 
 from . import Compliance
 
-__all__ = ["contact_frame", "arc_frame", "finite_pair", "shaft_quantities"]
+__all__ = ["contact_frame", "arc_frame", "finite_pair", "shaft_load_weights", "shaft_quantities"]
 
 
 def contact_frame(s: np.ndarray, radius: float, other_radius: float | None) -> tuple[np.ndarray, np.ndarray]:
@@ -111,6 +111,17 @@ def arc_frame(s: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
     theta = np.asarray(s, dtype=float) / radius
     cos, sin = np.cos(theta), np.sin(theta)
     return np.stack([sin, -cos], axis=-1), np.stack([cos, sin], axis=-1)
+
+
+def shaft_load_weights(s: np.ndarray, weights: np.ndarray, radius: float, finite_a: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The weights (load_n, load_t) [length] of the shaft load P = -(load_n p_n + load_t p_t) of the
+    finite body at arc lengths ``s`` [length] with quadrature ``weights`` [length] on its circle of
+    ``radius`` [length]: load_n = w cos theta and load_t = -w sin theta for a finite A, +w sin theta
+    for a finite B alone (which carries -p_t), theta = s / R. P is the component along the line of
+    centres of the contact tractions' resultant on the body (``shaft_load``, module docstring)."""
+    theta = np.asarray(s, dtype=float) / radius
+    w = np.asarray(weights, dtype=float)
+    return w * np.cos(theta), (-1.0 if finite_a else 1.0) * w * np.sin(theta)
 
 
 def _sum(a, b, sign: float):
@@ -208,6 +219,9 @@ def finite_pair(
     if finite_b and body_b is not None:  # B carries -p_T
         hoop_n += body_b.S_nn / radius_b
         hoop_t += _cross(body_b, "S_nt") / radius_b
+    # normal.load prescribes the finite body's shaft load (A's when both are finite, as shaft_quantities);
+    # without the coupling its p_t term goes too (the decoupled stages hold p_t = 0 while P is met)
+    load_n, load_t = shaft_load_weights(ref.x, ref.weights, radius, finite_a)
     return Compliance(
         x=ref.x,
         weights=ref.weights,
@@ -219,6 +233,8 @@ def finite_pair(
         gap0=g0,
         hoop_n=hoop_n if coupling else None,
         hoop_t=hoop_t,
+        load_n=load_n,
+        load_t=load_t if coupling else None,
     )
 
 
@@ -233,10 +249,11 @@ def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: floa
     the moment about the shaft's axis that the shaft transmits (the pressure, along the radius, has
     none), so Q = shaft_torque / R (tests/test_finite_shaft.py checks all three against the bore's
     reaction). ``contact_angle`` and ``contact_arc`` [rad]: the contact's centre and extent on the
-    finite body's outer circle.
+    finite body's outer circle. ``arc_load`` [force/length]: the arc sum -sum w p_n (the normal load
+    P is the shaft load, which ``normal.load`` prescribes: :func:`shaft_load_weights`).
     """
     a, b = case.bodies.A, case.bodies.B
-    names = ("shaft_load", "shaft_tangential_load", "shaft_torque", "contact_angle", "contact_arc")
+    names = ("shaft_load", "shaft_tangential_load", "shaft_torque", "contact_angle", "contact_arc", "arc_load")
     if not (a.shape == "cylinder" or b.shape == "cylinder"):
         return dict.fromkeys(names, math.nan)
     finite_a = a.shape == "cylinder"
@@ -248,5 +265,6 @@ def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: floa
     load = float(force[1])
     tangential = float(force[0] if finite_a else -force[0])
     torque = radius * float(w @ np.asarray(p_t))
-    values = (load, tangential, torque, centre / radius, 2.0 * half_width / radius)
+    arc = -float(w @ np.asarray(p_n))
+    values = (load, tangential, torque, centre / radius, 2.0 * half_width / radius, arc)
     return dict(zip(names, values, strict=True))
