@@ -11,13 +11,13 @@ import dataclasses
 
 import numpy as np
 import pytest
+from sensitivity_checks import TOLERANCE, check_case, is_finite
 
 from helpers import assert_contact_laws, case_dict
 from rolling_cli import pipeline
 from rolling_cli.case import load_case
 from rolling_cli.influence.bem import assembly, condense, cylinder
 from rolling_cli.influence.bem.elements import evaluate, gauss, map_points
-from sensitivity_checks import TOLERANCE, check_case, is_finite
 
 RIGID_FLAT = {"kind": "rigid", "radius": float("inf")}
 RADIUS, YOUNG, POISSON = 5.0, 10.0, 0.3

@@ -120,7 +120,9 @@ def arc_frame(s: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
     return np.stack([sin, -cos], axis=-1), np.stack([cos, sin], axis=-1)
 
 
-def shaft_load_weights(s: np.ndarray, weights: np.ndarray, radius: float, finite_a: bool) -> tuple[np.ndarray, np.ndarray]:
+def shaft_load_weights(
+    s: np.ndarray, weights: np.ndarray, radius: float, finite_a: bool
+) -> tuple[np.ndarray, np.ndarray]:
     """The weights (load_n, load_t) [length] of the shaft load P = -(load_n p_n + load_t p_t) of the
     finite body at arc lengths ``s`` [length] with quadrature ``weights`` [length] on its circle of
     ``radius`` [length]: load_n = w cos theta and load_t = -w sin theta for a finite A, +w sin theta

@@ -12,7 +12,8 @@ which is usually that matrix:
 * **bordered**: an overlap-controlled solve (overlap held) is differentiated
   as the load-controlled problem at its own load, whose matrix is the Newton's
   bordered by the overlap column (-1 on the contact rows) and the load row
-  (w/L on the contact columns), its force row (a target Q/P or Q/(mu P) that
+  (w/L on the contact columns; a finite cylinder's shaft load: its own weights,
+  on the adhesion columns too), its force row (a target Q/P or Q/(mu P) that
   moved with p_n) changed by a row of rank one. With the old matrix A, the
   border B = [e_force, u], C = [d; g] (d the force row's change, u the overlap
   column, g the load row) and E = [[-1, 0], [0, 0]], the new system is solved
