@@ -65,6 +65,7 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) ->
     x, w = system.x, system.weights
     d = float(case.rolling.direction)
     load = float(-(w @ p_n))
+    normal = system.load(p_n, p_t)  # P as normal.load prescribes it (a finite cylinder's: on its shaft)
     q = float(w @ p_t)
     first = float(w @ (p_n * x))
     centroid = -first / load if load > 0.0 else math.nan
@@ -98,7 +99,7 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float) ->
         "rolling_resistance_moment": moment,
         "rolling_resistance_moment_a": m_a,
         "rolling_resistance_moment_b": m_b,
-        "rolling_resistance_coefficient": moment / (load * radius) if load > 0.0 else math.nan,
+        "rolling_resistance_coefficient": moment / (normal * radius) if normal > 0.0 else math.nan,
         "pressure_centroid": centroid,
         "pressure_shift": -d * centroid,
         "hysteresis_power": power,
