@@ -225,9 +225,9 @@ def finite_pair(
     if finite_a and body_a is not None:
         hoop_n -= body_a.S_nn / radius_a
         hoop_t -= _cross(body_a, "S_nt") / radius_a
-    if finite_b and body_b is not None:  # B carries -p_T
+    if finite_b and body_b is not None:  # + w_B / R_B; B carries -p_T: -S_nt^B p_T / R_B (test_finite_load.py)
         hoop_n += body_b.S_nn / radius_b
-        hoop_t += _cross(body_b, "S_nt") / radius_b
+        hoop_t -= _cross(body_b, "S_nt") / radius_b
     # normal.load prescribes the finite body's shaft load; two finite bodies: the mean of their shafts'
     # (no p_t term); without the coupling its p_t term goes too (the decoupled stages hold p_t = 0)
     load_n, load_t = shaft_load_weights(ref.x, ref.weights, radius, finite_a)
