@@ -81,7 +81,8 @@ def _resolve(data: dict, system, start: State) -> Outcome:
     s = solution.state
     w = system.weights
     stick = solution.stick
-    return Outcome(float(-(w @ s.p_n)), float(w @ s.p_t), s.creep, float(-s.p_n.min()), node_states(s.p_n, stick))
+    load = system.load(s.p_n, s.p_t)  # P as normal.load prescribes it (a finite cylinder's: on its shaft)
+    return Outcome(load, float(w @ s.p_t), s.creep, float(-s.p_n.min()), node_states(s.p_n, stick))
 
 
 def _with(data: dict, **dotted) -> dict:

@@ -57,6 +57,11 @@ class Compliance:
     gap0: np.ndarray | None = None
     hoop_n: np.ndarray | None = None
     hoop_t: np.ndarray | None = None
+    #: The weights [length] of the load P = -(load_n p_n + load_t p_t) that ``normal.load`` prescribes:
+    #: a finite cylinder's shaft load (:func:`rolling_cli.influence.finite.shaft_load_weights`); None:
+    #: the quadrature weights and no p_t term (the arc sum).
+    load_n: np.ndarray | None = None
+    load_t: np.ndarray | None = None
 
     @property
     def coupled(self) -> bool:

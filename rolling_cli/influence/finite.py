@@ -42,27 +42,34 @@ R -> inf. For a solid roller the radial term cancels the curved surface's
 extra tangential displacement to O(a/R); for a cover on a rigid core it is
 the cover's change of rolling radius.
 
-**Loads on the shaft.** P = -sum w p_n and Q = sum w p_t are the sums along
-the arc. By the equilibrium of the body (the bore's reaction balances the
-contact tractions: tests/test_finite_shaft.py), Q is exactly the torque the
-shaft transmits divided by R (``shaft_torque``: the pressure, radial, has no
-moment about the centre), the creep force a rig's torque meter reads (to first order in the displacements: the
-tractions' displaced points add T_u, :mod:`rolling_cli.model.power_balance`); the
-force on the shaft's bearing (:func:`shaft_quantities`) is the vector
-resultant: along x, Q's projection plus the pressure's, P e / R for a
-pressure centroid e off the line of centres. The tangential traction shifts
-the pressure on a curved body (by e = -0.096 a in a hollow roller, nu = 0.3,
-a/R = 0.29, Q/(mu P) = 0.5; -0.075 a at nu = 0.5: not a Dundurs effect), so
-that bearing force exceeds Q by 0.11 = 17 % of Q there (1.2 % for a cover at
-a/R = 0.19), and by nothing without a tangential load (3e-6 of P). Q is kept
-as the torque over R; the bearing force is ``shaft_tangential_load``. Along
-the line of centres the bearing force ``shaft_load`` is P's projection (cos
-theta) plus the tangential traction's: 1.6 % below the arc sum P in that
-hollow roller, 1.5 % for the cover, 0.5 % above at Q = 0; load control
-prescribes the arc sum (the solver's load rows use the quadrature weights
-throughout), so a given shaft load is met by scaling P by their ratio; the
-difference is within the linear theory's O(a/R) ambiguity of the traction
-directions at such a/R (next paragraph).
+**Loads on the shaft.** P and Q are the resultants on the shaft. By the
+equilibrium of the body (the bore's reaction balances the contact tractions:
+tests/test_finite_shaft.py), Q = sum w p_t, the sum along the arc, is exactly
+the torque the shaft transmits divided by R (``shaft_torque``: the pressure,
+radial, has no moment about the centre), the creep force a rig's torque
+meter reads (to first order in the displacements: the tractions' displaced
+points add T_u, :mod:`rolling_cli.model.power_balance`). P is the force on
+the shaft's bearing along the line of centres (``shaft_load``): P = -(load_n p_n + load_t p_t) with load_n = w cos theta and
+load_t = -w sin theta (+ for a finite B alone, which carries -p_t:
+:func:`shaft_load_weights`), the pressure's projection plus the tangential
+traction's. ``normal.load`` prescribes this P: the solver's load row has these
+weights (:meth:`rolling_cli.solver.system.ContactSystem.load`), so it couples
+the normal load to the tangential unknowns, and the result's ``normal_load``
+is this P; the arc sum -sum w p_n is ``arc_load``. They differ by 1.7 % in a
+hollow roller (nu = 0.3, a/R = 0.29, Q/(mu P) = 0.5; arc sum above P), 1.3 %
+for a cover at a/R = 0.24, 0.5 % the other way at Q = 0, 6e-6 at R/a = 1340
+(tests/test_finite_load.py: the bore's reaction, from the whole BEM body,
+equals normal.load within 1e-7). Two finite cylinders: P is the mean of the
+two shafts' loads, sum w cos theta (-p_n) (they differ by 2 sum w p_t sin
+theta, an O(a/R) ambiguity of the arc's directions); ``shaft_load`` is A's.
+With ``effects.coupling = "off"`` the p_t term goes with the coupling (the
+decoupled stages hold p_t = 0 while they meet P). The force on the bearing
+along x is ``shaft_tangential_load``: Q's projection plus the pressure's, P e
+/ R for a pressure centroid e off the line of centres. The tangential traction
+shifts the pressure on a curved body (by e = -0.096 a in that hollow roller;
+-0.075 a at nu = 0.5: not a Dundurs effect), so that force exceeds Q by 0.11 =
+17 % of Q there (1.2 % for a cover at a/R = 0.19), and by nothing without a
+tangential load (3e-6 of P).
 Tried and not taken: tractions along the counterpart's normal and
 tangent (``traction_frame = "contact"``: vertical against a flat, which makes
 P and Q the shaft's resultants). At a/R = 0.3 its creepage is 4 % off the
@@ -81,7 +88,7 @@ import numpy as np
 
 from . import Compliance
 
-__all__ = ["contact_frame", "arc_frame", "finite_pair", "shaft_quantities"]
+__all__ = ["contact_frame", "arc_frame", "finite_pair", "shaft_load_weights", "shaft_quantities"]
 
 
 def contact_frame(s: np.ndarray, radius: float, other_radius: float | None) -> tuple[np.ndarray, np.ndarray]:
@@ -112,6 +119,19 @@ def arc_frame(s: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
     theta = np.asarray(s, dtype=float) / radius
     cos, sin = np.cos(theta), np.sin(theta)
     return np.stack([sin, -cos], axis=-1), np.stack([cos, sin], axis=-1)
+
+
+def shaft_load_weights(
+    s: np.ndarray, weights: np.ndarray, radius: float, finite_a: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """The weights (load_n, load_t) [length] of the shaft load P = -(load_n p_n + load_t p_t) of the
+    finite body at arc lengths ``s`` [length] with quadrature ``weights`` [length] on its circle of
+    ``radius`` [length]: load_n = w cos theta and load_t = -w sin theta for a finite A, +w sin theta
+    for a finite B alone (which carries -p_t), theta = s / R. P is the component along the line of
+    centres of the contact tractions' resultant on the body (``shaft_load``, module docstring)."""
+    theta = np.asarray(s, dtype=float) / radius
+    w = np.asarray(weights, dtype=float)
+    return w * np.cos(theta), (-1.0 if finite_a else 1.0) * w * np.sin(theta)
 
 
 def _sum(a, b, sign: float):
@@ -206,9 +226,13 @@ def finite_pair(
     if finite_a and body_a is not None:
         hoop_n -= body_a.S_nn / radius_a
         hoop_t -= _cross(body_a, "S_nt") / radius_a
-    if finite_b and body_b is not None:  # B carries -p_T
+    if finite_b and body_b is not None:  # + w_B / R_B; B carries -p_T: -S_nt^B p_T / R_B (test_finite_load.py)
         hoop_n += body_b.S_nn / radius_b
-        hoop_t += _cross(body_b, "S_nt") / radius_b
+        hoop_t -= _cross(body_b, "S_nt") / radius_b
+    # normal.load prescribes the finite body's shaft load; two finite bodies: the mean of their shafts'
+    # (no p_t term); without the coupling its p_t term goes too (the decoupled stages hold p_t = 0)
+    load_n, load_t = shaft_load_weights(ref.x, ref.weights, radius, finite_a)
+    keep_t = coupling and not (finite_a and finite_b)
     return Compliance(
         x=ref.x,
         weights=ref.weights,
@@ -220,6 +244,8 @@ def finite_pair(
         gap0=g0,
         hoop_n=hoop_n if coupling else None,
         hoop_t=hoop_t,
+        load_n=load_n,
+        load_t=load_t if keep_t else None,
     )
 
 
@@ -234,10 +260,11 @@ def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: floa
     the moment about the shaft's axis that the shaft transmits (the pressure, along the radius, has
     none), so Q = shaft_torque / R (tests/test_finite_shaft.py checks all three against the bore's
     reaction). ``contact_angle`` and ``contact_arc`` [rad]: the contact's centre and extent on the
-    finite body's outer circle.
+    finite body's outer circle. ``arc_load`` [force/length]: the arc sum -sum w p_n (the normal load
+    P is the shaft load, which ``normal.load`` prescribes: :func:`shaft_load_weights`).
     """
     a, b = case.bodies.A, case.bodies.B
-    names = ("shaft_load", "shaft_tangential_load", "shaft_torque", "contact_angle", "contact_arc")
+    names = ("shaft_load", "shaft_tangential_load", "shaft_torque", "contact_angle", "contact_arc", "arc_load")
     if not (a.shape == "cylinder" or b.shape == "cylinder"):
         return dict.fromkeys(names, math.nan)
     finite_a = a.shape == "cylinder"
@@ -249,5 +276,6 @@ def shaft_quantities(case, x, weights, p_n, p_t, centre: float, half_width: floa
     load = float(force[1])
     tangential = float(force[0] if finite_a else -force[0])
     torque = radius * float(w @ np.asarray(p_t))
-    values = (load, tangential, torque, centre / radius, 2.0 * half_width / radius)
+    arc = -float(w @ np.asarray(p_n))
+    values = (load, tangential, torque, centre / radius, 2.0 * half_width / radius, arc)
     return dict(zip(names, values, strict=True))

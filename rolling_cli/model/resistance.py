@@ -71,6 +71,7 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float, su
     x, w = system.x, system.weights
     d = float(case.rolling.direction)
     load = float(-(w @ p_n))
+    normal = system.load(p_n, p_t)  # P as normal.load prescribes it (a finite cylinder's: on its shaft)
     q = float(w @ p_t)
     first = float(w @ (p_n * x))
     centroid = -first / load if load > 0.0 else math.nan
@@ -100,13 +101,13 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float, su
                 centres, half, p_n, sign * p_t, float(body.layer_thickness), model.compliances,
                 model.lengths(speed), model.poisson,
             )  # fmt: skip
-    coefficient = moment / (load * radius) if load > 0.0 else math.nan
+    coefficient = moment / (normal * radius) if normal > 0.0 else math.nan
     balance = dict.fromkeys(("rolling_resistance_force", "shaft_torque_displacement"), math.nan)
     if surface is not None and finite_on_flat(case):  # the finite roller's power balance
         balance = power_balance.roller_on_flat(
             x, 3.0 * float(system.spacing), r_a, int(d), p_n, p_t, surface[0], surface[1]
         )
-        coefficient = balance["rolling_resistance_force"] / load if load > 0.0 else math.nan
+        coefficient = balance["rolling_resistance_force"] / normal if normal > 0.0 else math.nan
     return {
         **balance,
         "rolling_resistance_moment": moment,

@@ -134,6 +134,12 @@ def summary(result: Result, output: str | None = None) -> str:
             else f"(mu = {_fmt(attrs['mu'])})"
         )
     )
+    arc = attrs.get("arc_load")
+    if arc is not None and math.isfinite(arc):  # a finite cylinder: P is the load on its shaft
+        lines.append(
+            f"  shaft          P is the load on the shaft (arc sum -sum w p_n = {_fmt(arc)} {line}), "
+            f"Q = torque / R; bearing force across {_fmt(attrs.get('shaft_tangential_load'))} {line}"
+        )
     creep = f"  creepage       xi = {_fmt(attrs['creep'])}"
     if "carter_creep" in attrs:
         creep += f" (Carter{' with mu_static' if attrs.get('friction_law') else ''}: {_fmt(attrs['carter_creep'])})"

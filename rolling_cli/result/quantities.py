@@ -108,7 +108,10 @@ class Convergence:
 class Loads:
     """Loads, creepage and approach of the solved case."""
 
-    normal_load: float | None = quantity("normal load P = -sum w p_n per unit axial length", "force/length")
+    normal_load: float | None = quantity(
+        "normal load P = -sum w p_n per unit axial length (a finite cylinder: the load on its shaft, shaft_load)",
+        "force/length",
+    )
     tangential_load: float | None = quantity(
         "tangential load Q = sum w p_t on body A per unit axial length", "force/length"
     )
@@ -175,6 +178,11 @@ class Contact:
     )
     contact_arc: float | None = quantity(
         "finite cylinder: angle the contact spans on its outer circle, rad (NaN: no finite body)", "1"
+    )
+    arc_load: float | None = quantity(
+        "finite cylinder: arc sum -sum w p_n of the contact pressure per unit axial length; the normal load P "
+        "is the shaft load (NaN: no finite body)",
+        "force/length",
     )
 
 

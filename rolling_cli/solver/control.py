@@ -87,8 +87,8 @@ def convergence_error(err: StrategyFailed, budget: Budget) -> ConvergenceError:
 def check_saturated(task: Task, state: State) -> None:
     """A tangential target beyond the friction limit at ``state``'s load: gross sliding (raised)."""
     problem = task.problem(task.full_mode)
-    load = float(-(task.system.weights @ state.p_n))
-    target, _ = problem.force_target(state.p_n)
+    load = float(-(task.system.weights @ state.p_n))  # the arc sum: the friction's capacity is mu sum w |p_n|
+    target, _ = problem.force_target(state.p_n, state.p_t)
     if load > 0.0 and abs(target) >= task.mu * load * (1.0 - 1e-9):
         raise GrossSlidingError(
             f"gross sliding: the prescribed tangential force |Q| = {abs(target):.6g} reaches "

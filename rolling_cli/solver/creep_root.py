@@ -86,7 +86,7 @@ def solve(problem: Problem, task: Task, state: State, budget: Budget, globalisat
         fallback = None
         solved.append((xi, inner))
         current = inner.state
-        target, _ = problem.force_target(current.p_n)
+        target, _ = problem.force_target(current.p_n, current.p_t)
         q = float(system.weights @ current.p_t)
         scale = formulation.traction_scales(problem, current).tangential
         f = (q - target) / (lz * scale)
@@ -112,10 +112,13 @@ def solve(problem: Problem, task: Task, state: State, budget: Budget, globalisat
         else:
             try:
                 budget.take()
-                d_q, dp_n = reduced.creep_derivatives(held, current, inner.evaluation)
-                _, d_target = problem.force_target(current.p_n)
+                d_q, dp_n, dp_t = reduced.creep_derivatives(held, current, inner.evaluation)
+                _, d_target = problem.force_target(current.p_n, current.p_t)
                 if d_target is not None:  # overlap control: Q_target = (Q/P) P moves with P(xi)
                     d_q -= float(d_target @ dp_n)
+                d_target_t = problem.target_gradient_t()
+                if d_target_t is not None:  # and a finite cylinder's shaft load P with p_t
+                    d_q -= float(d_target_t @ dp_t)
             except BudgetExhausted:
                 raise StrategyFailed(name, "budget", "budget", current, abs(f)) from None
             except np.linalg.LinAlgError:  # a singular sensitivity system: bracketing alone
@@ -141,7 +144,7 @@ def solve(problem: Problem, task: Task, state: State, budget: Budget, globalisat
             if last_f is not None and abs(f) >= abs(last_f) and f * last_f > 0.0:
                 proposal = 0.5 * (lo + hi)  # no progress: bisect
         elif proposal is None:
-            target, _ = problem.force_target(current.p_n)
+            target, _ = problem.force_target(current.p_n, current.p_t)
             if not jumped and (f > 0.0) == (target < 0.0):  # the target's full slip lies beyond the root
                 jumped = True
                 sigma = 1.0 if target > 0.0 else -1.0

@@ -7,7 +7,8 @@ At a creepage xi and an overlap the contact laws are the projections
 
 with the gap delta_n and the slip s_t the linear functions of
 :class:`~rolling_cli.solver.system.ContactSystem` (eq. 33). A prescribed load P makes
-the overlap unknown, with the equation sum w p_n + P = 0; a prescribed
+the overlap unknown, with the equation sum w p_n + P = 0 (a finite cylinder's shaft load:
+sum w (cos theta p_n - sin theta p_t) + P = 0, :meth:`ContactSystem.load`); a prescribed
 tangential force makes the creepage unknown, with sum w p_t = Q_target.
 
 The generalised Jacobian (eq. 36-39) depends on each node's state:
@@ -121,8 +122,10 @@ class Problem:
         """True when the creepage is an unknown (a tangential force prescribed)."""
         return self.force is not None and self.tangential
 
-    def force_target(self, p_n: np.ndarray) -> tuple[float, np.ndarray | None]:
-        """Q_target [force/length] and, when it depends on p_n, its gradient d Q_target / d p_n."""
+    def force_target(self, p_n: np.ndarray, p_t: np.ndarray) -> tuple[float, np.ndarray | None]:
+        """Q_target [force/length] and, when it depends on p_n, its gradient d Q_target / d p_n (a ratio
+        Q/P or Q/(mu P) under overlap control: P = :meth:`ContactSystem.load`, which for a finite
+        cylinder moves with p_t too: :meth:`target_gradient_t`)."""
         if self.force is None:
             raise ValueError("no tangential force is prescribed")
         kind, value = self.force
@@ -131,8 +134,15 @@ class Problem:
         factor = value if kind == "q_over_p" else value * self.mu
         if self.load is not None:
             return factor * self.load, None
-        w = self.system.weights
-        return factor * float(-(w @ p_n)), -factor * w
+        return factor * self.system.load(p_n, p_t), -factor * self.system.load_weights
+
+    def target_gradient_t(self) -> np.ndarray | None:
+        """d Q_target / d p_t [length]: a ratio target under overlap control on a system whose load
+        holds p_t (a finite cylinder's shaft load), else None (Q_target does not move with p_t)."""
+        if self.force is None or self.force[0] == "load" or self.load is not None or self.system.load_t is None:
+            return None
+        factor = self.force[1] if self.force[0] == "q_over_p" else self.force[1] * self.mu
+        return -factor * self.system.load_t
 
     def held(self, **changes) -> Problem:
         """A copy with fields replaced (for example ``force=None`` to hold the creepage)."""
@@ -390,10 +400,10 @@ def evaluate(problem: Problem, state: State, scales: Scales, cold: bool = False)
         margin = None
     F_load = 0.0
     if problem.overlap_unknown and problem.load is not None:
-        F_load = (float(system.weights @ state.p_n) + problem.load) / system.zone_length
+        F_load = (problem.load - system.load(state.p_n, state.p_t)) / system.zone_length
     F_force = 0.0
     if problem.creep_unknown:
-        target, _ = problem.force_target(state.p_n)
+        target, _ = problem.force_target(state.p_n, state.p_t)
         F_force = (float(system.weights @ state.p_t) - target) / system.zone_length
     return Evaluation(F_n, F_t, F_load, F_force, contact, stick, sigma, bound, gap, slip_t, scales, margin, capacity)
 
@@ -424,7 +434,7 @@ def node_sets(problem: Problem, state: State, ev: Evaluation) -> NodeSets:
         and contact.any()
         and not stick.any()
     ):
-        target, _ = problem.force_target(state.p_n)
+        target, _ = problem.force_target(state.p_n, state.p_t)
         full_slip = float(system.weights @ (ev.sigma * ev.friction_bound))
         stick = full_slip_safeguard(contact, ev.slip_margin, ev.friction_bound, system.weights, abs(target - full_slip))
     slipping = contact & ~stick if problem.tangential else np.zeros_like(contact)
@@ -439,7 +449,10 @@ class Layout:
     ``stick`` (none where that traction is held), the overlap and creepage columns,
     ``coef`` (p_t = coef p_n on the slip nodes, coupled mode), ``p_t_slip`` (the known
     slip tractions, tangential mode), ``creep_vector`` on the adhesion rows, ``force_row_n``
-    (the force row's entries on the p_n unknowns, coupled force control)."""
+    (the force row's entries on the p_n unknowns, coupled force control); ``load_row_n``,
+    ``load_row_t`` the load row's entries on the p_n and p_t unknowns (None: w on p_n, none on
+    p_t) and ``force_row_t`` the force row's on p_t (None: w), other than the arc sums where the
+    load is a finite cylinder's shaft load (:meth:`ContactSystem.load`)."""
 
     contact: np.ndarray
     stick: np.ndarray
@@ -452,6 +465,9 @@ class Layout:
     force_row_n: np.ndarray | None
     rhs: np.ndarray
     creep_column: np.ndarray | None
+    load_row_n: np.ndarray | None = None
+    load_row_t: np.ndarray | None = None
+    force_row_t: np.ndarray | None = None
 
     @property
     def nc(self) -> int:

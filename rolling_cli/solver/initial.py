@@ -42,7 +42,7 @@ def cold_start(
     makes the mean slip over Carter's adhesion zone zero, which also captures
     the free-rolling creepage of dissimilar materials.
     """
-    w = system.weights
+    w = system.load_weights  # of the load P (a finite cylinder's shaft load: w cos theta; p_t's term left out)
     x = system.x - centre
     p0 = hertz.peak_pressure(load, half_width)
     p_n = -hertz.pressure(x, half_width, p0)

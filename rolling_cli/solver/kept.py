@@ -12,7 +12,8 @@ which is usually that matrix:
 * **bordered**: an overlap-controlled solve (overlap held) is differentiated
   as the load-controlled problem at its own load, whose matrix is the Newton's
   bordered by the overlap column (-1 on the contact rows) and the load row
-  (w/L on the contact columns), its force row (a target Q/P or Q/(mu P) that
+  (w/L on the contact columns; a finite cylinder's shaft load: its own weights,
+  on the adhesion columns too), its force row (a target Q/P or Q/(mu P) that
   moved with p_n) changed by a row of rank one. With the old matrix A, the
   border B = [e_force, u], C = [d; g] (d the force row's change, u the overlap
   column, g the load row) and E = [[-1, 0], [0, 0]], the new system is solved
@@ -53,7 +54,8 @@ def kept_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) 
     )  # fmt: skip
     if not common:
         return reduced.reduced_system(problem, state, sets, ev)
-    if old.col_overlap == lay.col_overlap and _equal(old.force_row_n, lay.force_row_n):
+    same_t = _equal(old.force_row_t, lay.force_row_t)
+    if old.col_overlap == lay.col_overlap and _equal(old.force_row_n, lay.force_row_n) and same_t:
         return _system(lay, sets, old.matrix, old.factor)
     if old.col_overlap is None and lay.col_overlap is not None and problem.normal:
         assert old.factor is not None
@@ -64,7 +66,7 @@ def kept_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) 
 def _system(lay: Layout, sets: NodeSets, matrix, factor: Solver | None) -> ReducedSystem:
     return ReducedSystem(
         matrix, lay.rhs, sets, lay.coef, lay.p_t_slip, lay.col_overlap, lay.col_creep, lay.creep_column,
-        lay.force_row_n, factor,
+        lay.force_row_n, factor, lay.force_row_t,
     )  # fmt: skip
 
 
@@ -81,11 +83,18 @@ class Bordered:
         u = np.zeros(m)
         u[:nc] = -1.0  # the overlap column on the contact rows
         g = np.zeros(m)
-        g[:nc] = system.weights[lay.contact] / system.zone_length  # the load row
+        g[:nc] = (system.weights[lay.contact] if lay.load_row_n is None else lay.load_row_n) / system.zone_length
+        if lay.load_row_t is not None:  # the load row (a finite cylinder's shaft load holds p_t)
+            g[nc : lay.nc + lay.ns] = lay.load_row_t / system.zone_length
         border, rows, corner = [u], [g], [0.0]
         if old.col_creep is not None and old.force_row_n is not None and lay.force_row_n is not None:
             d = np.zeros(m)
             d[:nc] = (lay.force_row_n - old.force_row_n) / system.zone_length
+            if lay.force_row_t is not None or old.force_row_t is not None:  # a ratio target's p_t part
+                w_stick = system.weights[lay.stick]
+                new_t = w_stick if lay.force_row_t is None else lay.force_row_t
+                old_t = w_stick if old.force_row_t is None else old.force_row_t
+                d[nc : lay.nc + lay.ns] = (new_t - old_t) / system.zone_length
             e = np.zeros(m)
             e[old.col_creep] = 1.0
             border, rows, corner = [e, u], [d, g], [-1.0, 0.0]  # y = d.x a new unknown: d.x - y = 0

@@ -88,7 +88,7 @@ def law_sensitivities(
     Raises ``numpy.linalg.LinAlgError`` on a singular matrix.
     """
     w = problem.system.weights
-    load = float(-(w @ state.p_n))
+    load = problem.system.load(state.p_n, state.p_t)  # P as normal.load prescribes it
     if not load > 0.0 or problem.friction is None or not problem.tangential:
         return UNDEFINED
     q = float(w @ state.p_t)

@@ -345,6 +345,8 @@ def operator(problem: Problem, state: State, lay: Layout, ev: Evaluation) -> Red
     :class:`ReducedOperator`: rows scaled by the traction scales, the iterate's unknowns as the
     Krylov guess, the solve's target no lower than the round-off floor."""
     system = problem.system
+    if lay.load_row_n is not None or lay.load_row_t is not None or lay.force_row_t is not None:
+        raise ValueError("a load other than the arc sum (a finite cylinder's) is not matrix-free")
     nc, ns = lay.nc, lay.ns
     s_n, s_t = ev.scales.normal, ev.scales.tangential
     row_scale = np.empty(lay.size)

@@ -38,7 +38,8 @@ class ReducedSystem:
     on a matrix-free system, or None where only ``factor`` solves it; ``factor`` its kept LU when it
     has one (:mod:`rolling_cli.solver.kept`),
     ``force_row_n`` the force row's entries on p_n (coupled force control with a target
-    that moves with p_n), part of what fixes the matrix.
+    that moves with p_n), part of what fixes the matrix, as is ``force_row_t``, its entries on
+    p_t where they are not w (:class:`~rolling_cli.solver.formulation.Layout`).
     """
 
     matrix: np.ndarray | ReducedOperator | None
@@ -51,6 +52,7 @@ class ReducedSystem:
     creep_column: np.ndarray | None = None
     force_row_n: np.ndarray | None = None
     factor: Solver | None = None
+    force_row_t: np.ndarray | None = None
 
 
 def layout(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> Layout:
@@ -72,6 +74,8 @@ def layout(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> La
     p_t_slip = sigma[sl_idx] * ev.friction_bound[sl_idx] if problem.mode == "tangential" else None
     rhs = np.zeros(size)
     creep_column = force_row_n = e = None
+    load_rows: tuple = (None, None)
+    force_row_t = None
     if problem.normal:
         fixed = system.gap0[contact] - (0.0 if overlap_unknown else state.overlap)
         if system.S_nt is not None and not problem.tangential:
@@ -79,6 +83,9 @@ def layout(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> La
         rhs[:nc] = -r_n * fixed
         if col_overlap is not None and problem.load is not None:
             rhs[col_overlap] = -problem.load / lz
+            if system.load_n is not None or system.load_t is not None:  # a finite cylinder's shaft load
+                load_rows, held = _load_rows(problem, state, contact, stick, coef)
+                rhs[col_overlap] = -(problem.load + held) / lz
     if problem.tangential:
         e = system.creep_vector[stick]
         fixed = np.zeros(ns) if creep_unknown else state.creep * e
@@ -86,18 +93,46 @@ def layout(problem: Problem, state: State, sets: NodeSets, ev: Evaluation) -> La
             fixed = fixed + _slip_terms(system, stick, sl_idx, p_t_slip, state.p_n)
         rhs[nc : nc + ns] = -r_t * fixed
         if creep_unknown:
-            target, d_target = problem.force_target(state.p_n)
+            target, d_target = problem.force_target(state.p_n, state.p_t)
+            d_target_t = problem.target_gradient_t()  # a ratio target moving with a shaft load's p_t
+            if d_target_t is not None:
+                force_row_t = w[stick] - d_target_t[stick]
             if problem.normal:
                 force_row_n = w[contact] * coef
                 if d_target is not None:
                     force_row_n = force_row_n - d_target[contact]
+                if d_target_t is not None:
+                    force_row_n = force_row_n - d_target_t[contact] * coef
                 rhs[col_creep] = target / lz if d_target is None else 0.0
+            elif d_target_t is not None:  # Q - Q_target(p_n held, p_t) = 0: the p_t terms on the left
+                target = problem.force_target(state.p_n, np.zeros_like(state.p_t))[0]
+                rhs[col_creep] = (target - float((w[sl_idx] - d_target_t[sl_idx]) @ p_t_slip)) / lz
             else:
                 rhs[col_creep] = (target - float(w[sl_idx] @ p_t_slip)) / lz
         else:
             creep_column = np.zeros(size)
             creep_column[nc : nc + ns] = -r_t * e
-    return Layout(contact, stick, size, col_overlap, col_creep, coef, p_t_slip, e, force_row_n, rhs, creep_column)
+    return Layout(
+        contact, stick, size, col_overlap, col_creep, coef, p_t_slip, e, force_row_n, rhs, creep_column,
+        load_rows[0], load_rows[1], force_row_t,
+    )  # fmt: skip
+
+
+def _load_rows(problem: Problem, state: State, contact: np.ndarray, stick: np.ndarray, coef) -> tuple:
+    """((the load row's entries on the p_n unknowns, on the p_t unknowns or None) [length], the held
+    p_t's part of the load row [force/length]) for a load P = -(load_n p_n + load_t p_t)
+    (:meth:`~rolling_cli.solver.system.ContactSystem.load`): coupled, p_t = coef p_n on the slip
+    nodes and unknown on the adhesion ones; p_t held otherwise (its term joins the right-hand side)."""
+    system = problem.system
+    row_n = system.load_weights[contact]
+    load_t = system.load_t
+    if load_t is None:
+        return (row_n, None), 0.0
+    if not problem.tangential:
+        return (row_n, None), float(load_t @ state.p_t)
+    if coef is not None:
+        row_n = row_n + load_t[contact] * coef
+    return (row_n, load_t[stick]), 0.0
 
 
 def _rows_times(system, block, rows: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -139,7 +174,9 @@ def dense_matrix(problem: Problem, lay: Layout) -> np.ndarray:
             A[rows_n, nc : nc + ns] = r_n * block(system.S_nt, c_idx, st_idx)
         if lay.col_overlap is not None:  # unknown r_n * overlap, in stress units like the tractions
             A[rows_n, lay.col_overlap] = -1.0
-            A[lay.col_overlap, :nc] = w[c_idx] / lz
+            A[lay.col_overlap, :nc] = (w[c_idx] if lay.load_row_n is None else lay.load_row_n) / lz
+            if lay.load_row_t is not None:  # a finite cylinder's shaft load holds p_t
+                A[lay.col_overlap, nc : nc + ns] = lay.load_row_t / lz
     if problem.tangential:
         A[rows_t, nc : nc + ns] = r_t * block(system.B_tt, st_idx, st_idx)
         if problem.normal and coef is not None:  # the coupled mode
@@ -149,7 +186,7 @@ def dense_matrix(problem: Problem, lay: Layout) -> np.ndarray:
             A[rows_t, :nc] = r_t * a_tn
         if lay.col_creep is not None:  # unknown r_t * creep, in stress units like the tractions
             A[rows_t, lay.col_creep] = lay.creep_vector
-            A[lay.col_creep, nc : nc + ns] = w[st_idx] / lz
+            A[lay.col_creep, nc : nc + ns] = (w[st_idx] if lay.force_row_t is None else lay.force_row_t) / lz
             if lay.force_row_n is not None:
                 A[lay.col_creep, :nc] = lay.force_row_n / lz
     return A
@@ -169,7 +206,7 @@ def reduced_system(problem: Problem, state: State, sets: NodeSets, ev: Evaluatio
         matrix = dense_matrix(problem, lay)
     return ReducedSystem(
         matrix, lay.rhs, sets, lay.coef, lay.p_t_slip, lay.col_overlap, lay.col_creep, lay.creep_column,
-        lay.force_row_n,
+        lay.force_row_n, force_row_t=lay.force_row_t,
     )  # fmt: skip
 
 
@@ -217,7 +254,8 @@ def friction_rows(problem: Problem, reduced: ReducedSystem, state: State) -> np.
     mu enters only through the slip tractions p_t = sigma g = -mu sigma p_n, so this is the
     response of the system's rows to their change dp_t/dmu = -sigma p_n on the slip nodes: the
     contact rows r_n S_nt dp_t (coupled mode), the adhesion rows r_t B_tt dp_t and the force row
-    sum w dp_t / L (the load row does not change)."""
+    sum w dp_t / L (the load row does not change, but for a finite cylinder's shaft load, which
+    holds p_t: sum load_t dp_t / L; and a ratio target's with it)."""
     system, sets = problem.system, reduced.sets
     out = np.zeros(reduced.rhs.size)
     if not problem.tangential or sets.slip.size == 0:
@@ -237,6 +275,11 @@ def friction_rows(problem: Problem, reduced: ReducedSystem, state: State) -> np.
         out[nc : nc + ns] = system.penalty_t * (block(system.B_tt, sets.stick, slip) @ dp_t[slip])
     if reduced.col_creep is not None:
         out[reduced.col_creep] = float(system.weights @ dp_t) / system.zone_length
+        d_target_t = problem.target_gradient_t()
+        if d_target_t is not None:
+            out[reduced.col_creep] -= float(d_target_t @ dp_t) / system.zone_length
+    if reduced.col_overlap is not None and system.load_t is not None:
+        out[reduced.col_overlap] = float(system.load_t @ dp_t) / system.zone_length
     return out
 
 
@@ -314,10 +357,11 @@ def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
     return creep_derivatives(problem, state, ev)[0]
 
 
-def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[float, np.ndarray]:
-    """dQ/dxi [force/length] and dp_n/dxi [stress] (zero where p_n is held) at fixed node states
-    (see :func:`creep_sensitivity`): under overlap control the load, and with it a target Q
-    given as Q/P or Q/(mu P), moves with the creepage through the coupling."""
+def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[float, np.ndarray, np.ndarray]:
+    """dQ/dxi [force/length], dp_n/dxi and dp_t/dxi [stress] (zero where p_n is held) at fixed node
+    states (see :func:`creep_sensitivity`): under overlap control the load, and with it a target Q
+    given as Q/P or Q/(mu P), moves with the creepage through the coupling (and, a finite
+    cylinder's shaft load, through p_t)."""
     if problem.friction is not None and problem.tangential:  # the creepage held or, there, unknown
         from . import velocity
 
@@ -336,6 +380,9 @@ def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[f
     dp_n = np.zeros_like(state.p_n)
     if problem.normal:
         dp_n[sets.contact] = dz[:nc]
+    dp_t = np.zeros_like(state.p_t)
+    dp_t[sets.stick] = dz[nc : nc + ns]
     if reduced.coef is not None:
-        d_q += float(w[sets.slip] @ (reduced.coef[np.searchsorted(sets.contact, sets.slip)] * dp_n[sets.slip]))
-    return d_q, dp_n
+        dp_t[sets.slip] = reduced.coef[np.searchsorted(sets.contact, sets.slip)] * dp_n[sets.slip]
+        d_q += float(w[sets.slip] @ dp_t[sets.slip])
+    return d_q, dp_n, dp_t

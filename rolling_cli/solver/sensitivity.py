@@ -159,7 +159,7 @@ def sensitivities(
     ``numpy.linalg.LinAlgError`` when the final reduced matrix is singular.
     """
     w = system.weights
-    load = float(-(w @ state.p_n))
+    load = system.load(state.p_n, state.p_t)  # P as normal.load prescribes it (a finite cylinder's: on its shaft)
     if not load > 0.0:
         reduced.release()
         return UNDEFINED
@@ -263,7 +263,7 @@ def _solve_blocks(problem: Problem, base: reduced.ReducedSystem, columns: np.nda
     matrix = base.matrix
     if not isinstance(matrix, np.ndarray):
         raise TypeError("a dense reduced matrix is needed")
-    if problem.mode != "coupled" or problem.system.S_nt is not None:
+    if problem.mode != "coupled" or problem.system.S_nt is not None or problem.system.load_t is not None:
         return solve_dense(matrix, columns).reshape(columns.shape)
     nc = base.sets.contact.size
     normal = np.r_[np.arange(nc), [] if base.col_overlap is None else [base.col_overlap]].astype(int)

@@ -94,17 +94,23 @@ def settled(
 
 
 def scaled_coupling(system: ContactSystem, kappa: float) -> ContactSystem:
-    """The contact system with its normal-tangential cross blocks times ``kappa`` (None at 0)."""
+    """The contact system with its normal-tangential cross blocks times ``kappa`` (None at 0), and
+    the p_t term of a finite cylinder's shaft load (``load_t``) with them: the decoupled stages
+    hold p_t = 0 while they meet the load."""
     if system.S_nt is None:
         return system
     if kappa == 0.0:
-        return dataclasses.replace(system, S_nt=None, B_tn=None, gauge_tn=None)
+        return dataclasses.replace(system, S_nt=None, B_tn=None, gauge_tn=None, load_t=None)
 
     def scaled(block):
         return None if block is None else kappa * block
 
     return dataclasses.replace(
-        system, S_nt=scaled(system.S_nt), B_tn=scaled(system.B_tn), gauge_tn=scaled(system.gauge_tn)
+        system,
+        S_nt=scaled(system.S_nt),
+        B_tn=scaled(system.B_tn),
+        gauge_tn=scaled(system.gauge_tn),
+        load_t=scaled(system.load_t),
     )
 
 

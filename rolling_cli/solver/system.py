@@ -36,7 +36,10 @@ class ContactSystem:
     choose the node states of the Newton Jacobian; ``reference_penalty_*`` are
     the automatic ones, which measure the residual. ``S_nt``/``B_tn`` are ``None`` when
     the coupling is not simulated. ``gauge_tn``/``gauge_tt`` are the slip rows of
-    the gauge node by a downwind difference, for reporting only. The four blocks
+    the gauge node by a downwind difference, for reporting only. ``load_n``, ``load_t``
+    [length]: the weights of the load P = -(load_n p_n + load_t p_t) that ``normal.load``
+    prescribes (:meth:`load`); None: the quadrature weights and no p_t term (P the arc
+    sum; a finite cylinder's shaft load otherwise, :mod:`rolling_cli.influence.finite`). The four blocks
     are dense arrays, or all :class:`~rolling_cli.influence.toeplitz.BlockToeplitz`
     operators (:attr:`matrix_free`).
     """
@@ -59,6 +62,8 @@ class ContactSystem:
     definite_normal: bool = False
     reference_penalty_n: float = 0.0
     reference_penalty_t: float = 0.0
+    load_n: np.ndarray | None = None
+    load_t: np.ndarray | None = None
 
     @property
     def size(self) -> int:
@@ -91,6 +96,19 @@ class ContactSystem:
         """Smallest and largest x [length] of the cells of the selected ``nodes`` (a mask or indices)."""
         lo, hi = self.node_cells()
         return float(lo[nodes].min()), float(hi[nodes].max())
+
+    @property
+    def load_weights(self) -> np.ndarray:
+        """The weights of p_n in the load P [length]: ``load_n``, or the quadrature weights."""
+        return self.weights if self.load_n is None else self.load_n
+
+    def load(self, p_n: np.ndarray, p_t: np.ndarray) -> float:
+        """The load P = -(load_n p_n + load_t p_t) [force/length] that ``normal.load`` prescribes: the
+        arc sum -sum w p_n, or a finite cylinder's shaft load (class docstring)."""
+        out = -float(self.load_weights @ p_n)
+        if self.load_t is not None:
+            out -= float(self.load_t @ p_t)
+        return out
 
     @property
     def zone_length(self) -> float:
@@ -229,6 +247,8 @@ def build_system(
         gauge_tn=gauge_tn,
         gauge_tt=_downwind_row(compliance.S_tt, spacing, direction),
         definite_normal=compliance.definite_normal,
+        load_n=compliance.load_n,
+        load_t=compliance.load_t,
     )
 
 

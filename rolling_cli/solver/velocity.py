@@ -155,8 +155,13 @@ def velocity_system(problem: Problem, state: State, ev: Evaluation) -> VelocityS
         rhs[:nc] = -r_n * (system.gap0[contact] - (0.0 if overlap_unknown else state.overlap))
         if col_overlap is not None and problem.load is not None:
             A[:nc, col_overlap] = -1.0
-            A[col_overlap, cols_n] = w[contact] / lz
+            A[col_overlap, cols_n] = system.load_weights[contact] / lz
             rhs[col_overlap] = -problem.load / lz
+            if system.load_t is not None:  # a finite cylinder's shaft load holds p_t
+                if coupled:
+                    A[col_overlap, traction_rows] = system.load_t[traction] / lz
+                else:
+                    rhs[col_overlap] -= float(system.load_t @ state.p_t) / lz
     # adhesion rows r_t s_t = 0 and the slip rows p_t - h s_t, s_t = xi e + B_tt p_t + B_tn p_n
     # (einsum: the block is a strided view; a broadcast multiply into A's view took 1.7x as long)
     np.einsum("i,ij->ij", factor, _block(system.B_tt, traction, traction), out=A[traction_rows, traction_rows])
@@ -176,7 +181,11 @@ def velocity_system(problem: Problem, state: State, ev: Evaluation) -> VelocityS
     if creep_unknown:  # the unknown is r_t xi
         A[traction_rows, col_creep] = factor * e / r_t
         A[col_creep, traction_rows] = w[traction] / lz
-        target, d_target = problem.force_target(state.p_n)
+        target, d_target = problem.force_target(state.p_n, state.p_t)
+        d_target_t = problem.target_gradient_t()  # a ratio target moving with a shaft load's p_t
+        if d_target_t is not None:
+            A[col_creep, traction_rows] -= d_target_t[traction] / lz
+            target = problem.force_target(state.p_n, np.zeros_like(state.p_t))[0]
         if coupled and d_target is not None:
             A[col_creep, cols_n] = -d_target[contact] / lz
             rhs[col_creep] = 0.0
@@ -219,9 +228,9 @@ def creep_sensitivity(problem: Problem, state: State, ev: Evaluation) -> float:
     return creep_derivatives(problem, state, ev)[0]
 
 
-def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[float, np.ndarray]:
-    """dQ/dxi [force/length] and dp_n/dxi [stress] (zero where p_n is held) at fixed node states
-    (creepage held), d mu/d s_a included (see :func:`rolling_cli.solver.reduced.creep_derivatives`).
+def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[float, np.ndarray, np.ndarray]:
+    """dQ/dxi [force/length], dp_n/dxi and dp_t/dxi [stress] (zero where p_n is held) at fixed node
+    states (creepage held), d mu/d s_a included (see :func:`rolling_cli.solver.reduced.creep_derivatives`).
 
     ``problem`` may hold the creepage or have it unknown (a prescribed force: the problem a
     force-controlled solve converged on). In the second case its Newton matrix J is the held one,
@@ -243,4 +252,6 @@ def creep_derivatives(problem: Problem, state: State, ev: Evaluation) -> tuple[f
     dp_n = np.zeros_like(state.p_n)
     if problem.normal:
         dp_n[reduced.contact] = dz[:nc]
-    return float(problem.system.weights[reduced.traction] @ dz[nc : nc + nt]), dp_n
+    dp_t = np.zeros_like(state.p_t)
+    dp_t[reduced.traction] = dz[nc : nc + nt]
+    return float(problem.system.weights[reduced.traction] @ dz[nc : nc + nt]), dp_n, dp_t
