@@ -342,14 +342,31 @@ SEQUENCING_ELEMENTS = 240
 FRICTION_SEQUENCING_ELEMENTS = 100
 
 
-def presolve_case(case: Case, guess: float, zone: float) -> Case:
-    """The coarse frictionless normal case that measures a around the guess ``guess`` [length]."""
+def _presolve_needed(case: Case, guess: float, zone: float) -> int:
+    """The pre-solve's elements that keep them :data:`PRESOLVE_LAYER_ELEMENT` layer thicknesses long
+    (0 without a layer)."""
     thinnest = min(
         (given(b.layer_thickness, "layer_thickness") for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"),
         default=math.inf,
     )
-    needed = int(np.ceil(2.0 * zone * guess / (PRESOLVE_LAYER_ELEMENT * thinnest))) if thinnest < math.inf else 0
-    elements = int(min(max(PRESOLVE_ELEMENTS, needed), 400))
+    return int(np.ceil(2.0 * zone * guess / (PRESOLVE_LAYER_ELEMENT * thinnest))) if thinnest < math.inf else 0
+
+
+def presolve_set_by_layer(case: Case, guess: float, zone: float) -> bool:
+    """Whether the pre-solve of :func:`presolve_case` has its element length set by the layer
+    (:data:`PRESOLVE_LAYER_ELEMENT` thicknesses, up to the rounding of the element count), not by
+    the guess: then another guess gives the same resolution."""
+    return PRESOLVE_ELEMENTS <= _presolve_needed(case, guess, zone) <= PRESOLVE_MAX_ELEMENTS
+
+
+#: The pre-solve's largest number of contact elements.
+PRESOLVE_MAX_ELEMENTS = 400
+
+
+def presolve_case(case: Case, guess: float, zone: float) -> Case:
+    """The coarse frictionless normal case that measures a around the guess ``guess`` [length]."""
+    needed = _presolve_needed(case, guess, zone)
+    elements = int(min(max(PRESOLVE_ELEMENTS, needed), PRESOLVE_MAX_ELEMENTS))
     return dataclasses.replace(
         case,
         stresses=None,
