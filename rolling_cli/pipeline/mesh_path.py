@@ -379,7 +379,10 @@ class MeshPath:
             if level.kind == "refined mesh" and level.plan.grid.uniform:
                 clear_memo()  # a refined level that came out uniform: keep no earlier level's influence in memory
             t0 = time.perf_counter()
-            level.system, level.origin = build_contact_system_with_origin(level.case, level.plan, self.use_cache)
+            normal_only = level.kind == "a-estimate"  # frictionless, normal: a cover's history on S_nn alone
+            level.system, level.origin = build_contact_system_with_origin(
+                level.case, level.plan, self.use_cache, normal_only
+            )
             self.timings["influence"] += time.perf_counter() - t0
             log.info("%s: contact system of %d nodes, %.3f s", level.kind, level.system.size, time.perf_counter() - t0)
         return level.system

@@ -217,12 +217,13 @@ def build_contact_system(case: Case, the_plan: Plan, use_cache: bool = True) -> 
 
 
 def build_contact_system_with_origin(
-    case: Case, the_plan: Plan, use_cache: bool = True
+    case: Case, the_plan: Plan, use_cache: bool = True, normal_only: bool = False
 ) -> tuple[ContactSystem, dict[str, str]]:
-    """As :func:`build_contact_system`, plus where each body's influence came from."""
+    """As :func:`build_contact_system`, plus where each body's influence came from; ``normal_only``
+    for a frictionless normal solve (:func:`~rolling_cli.influence.build.pair_compliance`)."""
     disc = case.discretization
     if the_plan.grid.uniform or the_plan.effects.influence == "bem":  # the BEM keys a graded grid on its edges
-        compliance, origin = pair_compliance(case, the_plan, use_cache)
+        compliance, origin = pair_compliance(case, the_plan, use_cache, normal_only)
     else:  # a graded grid (adaptive levels) on the half-plane: outside the influence memo
         compliance, origin = graded.graded_compliance(case, the_plan), {"A": "closed form", "B": "closed form"}
     penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
