@@ -129,7 +129,8 @@ def main() -> None:
         print(
             f"| {body['layer_thickness']:.3f} | {body['poisson']} | {next(iter(data['normal']))} "
             f"| {'SLS' if body.get('viscoelastic') else '-'} | {new.x[-1] / 1.5:.5f} | {old.x[-1] / 1.5:.5f} "
-            f"| {levels_old} -> {levels_new}, {'same grid' if same else 'other grid'} | {diff:.1e} | {error} | {t_new / t_old:.2f} |",
+            f"| {levels_old} -> {levels_new}, {'same grid' if same else 'other grid'} | {diff:.1e} | {error} "
+            f"| {t_new / t_old:.2f} |",
             flush=True,
         )
 
