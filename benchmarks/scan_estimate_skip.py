@@ -2,10 +2,13 @@
 
 Random covers on the paper's Fig. 11 tyre (R = 100 rigid on R = 100 layered; b in 0.03..0.4 with
 a ~ 0.5..1.5, nu in {0.3, 0.45, 0.5}, overlap or load control, elastic or SLS with E_g / E_r in
-1.5..10 and V tau_c / a in 0.1..10): the measured half-width with the skip (the first level's when
-both levels' elements are set by the layer) against the path that runs the second level, and where
-the two differ, the solved answers on the case grid (60 elements) against each other and against the
-discretisation error (the same case on 120 elements).
+1.5..10 and V tau_c / a in 0.1..10): the measured half-width with the skip
+(:func:`rolling_cli.pipeline.planning.repeats_estimate`: the first level's width kept) against the
+path that runs the second level; where the two differ,
+the per-case outputs (creepage, peak pressure, load, overlap, rolling resistance: the largest
+relative change) against each other and against the discretisation error (the same outputs against
+the same case on twice the elements). Cases on 60 elements, or on the fewest the layer rule allows
+on either path. CPU: the median of 3 solves, the BEM layer from the disk cache.
 
     python benchmarks/scan_estimate_skip.py [--seed 1] [--cases 40]
 """
@@ -53,7 +56,7 @@ def _random_case(rng: np.random.Generator) -> dict:
 def _solve(data: dict, skip: bool, repeat: int = 3):
     """(result, a-estimate levels, median CPU [s] of ``repeat`` solves with the influence memos
     cleared and the BEM layers from the disk cache, after one solve that fills it)."""
-    original, presolve = mesh_path.presolve_set_by_layer, mesh_path.presolve_case
+    original, presolve = mesh_path.repeats_estimate, mesh_path.presolve_case
     levels = []
 
     def counted(*args):
@@ -61,7 +64,7 @@ def _solve(data: dict, skip: bool, repeat: int = 3):
         return presolve(*args)
 
     if not skip:
-        mesh_path.presolve_set_by_layer = lambda *args: False
+        mesh_path.repeats_estimate = lambda *args: False
     mesh_path.presolve_case = counted
     try:
         times = []
@@ -75,7 +78,7 @@ def _solve(data: dict, skip: bool, repeat: int = 3):
             times.append(time.process_time() - t0)
         return result, len(levels), float(np.median(times[1:]))
     finally:
-        mesh_path.presolve_set_by_layer, mesh_path.presolve_case = original, presolve
+        mesh_path.repeats_estimate, mesh_path.presolve_case = original, presolve
 
 
 def _scalars(a, b) -> float:
@@ -89,15 +92,22 @@ def _scalars(a, b) -> float:
 
 
 def _allowed(data: dict) -> dict:
-    """``data`` with at least the contact elements the layer rule asks for."""
-    try:
-        load_case(copy.deepcopy(data))
-        mesh_path.measured_plan(load_case(copy.deepcopy(data)))
-    except CaseError as err:
-        found = re.search(r">= (\d+) elements", str(err))
-        if found is None:
-            raise
-        data["discretization"]["contact_elements"] = int(found.group(1))
+    """``data`` with at least the contact elements the layer rule asks for, on either path (the
+    thin-layer estimate first, then each path's measured contact scale)."""
+    original = mesh_path.repeats_estimate
+    for skip in (True, False, True, False):
+        if not skip:
+            mesh_path.repeats_estimate = lambda *args: False
+        try:
+            mesh_path._estimates.clear()
+            mesh_path.measured_plan(load_case(copy.deepcopy(data)))
+        except CaseError as err:
+            found = re.search(r">= (\d+) elements", str(err))
+            if found is None:
+                raise
+            data["discretization"]["contact_elements"] = int(found.group(1))
+        finally:
+            mesh_path.repeats_estimate = original
     return data
 
 
