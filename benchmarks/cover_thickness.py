@@ -114,6 +114,11 @@ def rel(a: float, b: float) -> float:
     return 100.0 * (a / b - 1.0) if b else math.nan
 
 
+def _cell(value: float) -> str:
+    """A table cell: the value in per cent, blank when undefined (no friction: no creepage)."""
+    return "" if math.isnan(value) else f"{value:+.3f}"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--elements", type=int, default=60)
@@ -132,12 +137,13 @@ def main() -> None:
         for speed in speeds:
             c = outputs(cases(ratio, speed, args.elements, args.friction)[1])
             h = halves[speed]
-            cells = [f"{rel(c[k], h[k]):+.3f}" for k in ("peak", "width", "rr", "creep")]
+            keys = ("peak", "width", "creep") if speed is None else ("peak", "width", "rr", "creep")  # elastic: M = 0
+            cells = [_cell(rel(c[k], h[k])) if k in keys else "" for k in ("peak", "width", "rr", "creep")]
             if args.no_reference:
                 cells += ["", "", ""]
             else:
                 f, g = reference(ratio, speed, True), reference(ratio, speed, False)
-                cells += [f"{rel(f[k], g[k]):+.3f}" for k in ("peak", "width", "rr")]
+                cells += [_cell(rel(f[k], g[k])) if k in keys else "" for k in ("peak", "width", "rr")]
             label = "elastic" if speed is None else f"{speed:g}"
             print(f"| {ratio:g} | {label} | " + " | ".join(cells) + " |", flush=True)
 
