@@ -135,6 +135,60 @@ def test_cover_compliance_equals_the_old_one(speed, direction, elements):
         assert _relative(getattr(new, name), getattr(ref, name)) < ROUND_OFF, name
 
 
+def test_normal_only_cover_is_the_full_normal_block_and_the_relaxed_rest():
+    """The a-estimate levels' cover (the history on S_nn alone, ``normal_only``): S_nn is the full
+    compliance's to round-off (the same sums over a third of the Fourier columns; ROUND_OFF of its
+    largest entry), the other three blocks the relaxed layer's, J_r E_g times the BEM's, exactly."""
+    grid = ContactGrid(2.9, 29, 2)
+    thickness = 0.1
+    mesh = bem.body_mesh(grid, grid.half_width + 3.0 * thickness, thickness, largest=thickness, far_field=False)
+    elastic = bem.condensed(mesh, grid, 20.0, 0.5)
+    model = Viscoelastic(young=20.0, compliances=(0.05,), times=(1.0,), poisson=0.5, label="SLS")
+    full = layer.body_compliance(elastic, grid, model, thickness, 1.0, -1)
+    normal = layer.body_compliance(elastic, grid, model, thickness, 1.0, -1, normal_only=True)
+    assert _relative(normal.S_nn, full.S_nn) < ROUND_OFF
+    factor = model.relaxed / model.glassy
+    for name in ("S_tt", "S_nt", "S_tn"):
+        assert np.array_equal(getattr(normal, name), factor * getattr(elastic, name)), name
+        assert not np.allclose(getattr(full, name), getattr(normal, name)), name  # the history is there
+
+
+def test_a_repeating_a_estimate_level_is_skipped(monkeypatch):
+    """The paper's cover (the bench's Fig. 11 tyre as an SLS cover): its first a-estimate level (29
+    elements of 0.1935, set by the layer) measures a more than two spacings from the guess; the next
+    level (16 elements of the same length to an ulp, also set by the layer) measures the same width:
+    it is skipped, one level instead of two, the same a (1e-12: the two levels' cell extents differ
+    by round-off). The shipped cover's first level has 16 elements of 1.0 (set by the guess, not by
+    its 5 mm layer): its second level, 2.5x finer, still runs (and measures 2.97 against 3.07)."""
+    import tomllib
+    from pathlib import Path
+
+    from rolling_cli.case import load_case
+    from rolling_cli.pipeline import mesh_path
+
+    cases = Path(__file__).resolve().parents[1] / "cases"
+    with open(cases / "tyred_fig11_q41.toml", "rb") as handle:
+        data = tomllib.load(handle)
+    data["bodies"]["B"].update(viscoelastic=True, young=20.0, relaxed_young=10.0, creep_time=1.0)
+    data["rolling"]["speed"] = 1.0
+    with open(cases / "rubber_cover.toml", "rb") as handle:
+        shipped = tomllib.load(handle)
+
+    def estimate(case):
+        path = mesh_path.MeshPath(case, mesh_path.plan(case), estimates_only=True)
+        path.run()
+        return len(path.levels), path.measured_half_width
+
+    for case_data, levels in ((data, (1, 2)), (shipped, (2, 2))):
+        case = load_case(case_data)
+        skipped = estimate(case)
+        with monkeypatch.context() as patch:
+            patch.setattr(mesh_path, "repeats_estimate", lambda *args: False)
+            both = estimate(case)
+        assert (skipped[0], both[0]) == levels
+        assert skipped[1] == pytest.approx(both[1], rel=1e-12)
+
+
 @pytest.mark.parametrize("n", [2, 40, 480])
 def test_small_wavenumber_spectrum_is_the_direct_sum(n):
     """The hysteresis output's low wavenumbers by the exponential's series (k max x <= 1) against the

@@ -217,6 +217,52 @@ def test_thick_cover_is_the_viscoelastic_half_plane(thickness_ratio, ratio):
     assert float(-c.p_n.min()) == pytest.approx(float(-h.p_n.min()), rel=0.005)
 
 
+def _flat_layer_reference(thickness: float | None, ratio: float, period: float) -> tuple[float, float]:
+    """(M/(P R), peak pressure) of Hunter's roller of :func:`_rigid_roller` (nu = 0.5) by the Fourier
+    complex-modulus reference (references.hunter), on the half-plane (``thickness`` None) or the
+    flat layer of that thickness on a rigid base, with a given ``period`` (both on the same one, so
+    that they differ by the layer alone) and 40 cells per a_r."""
+    from rolling_cli.references import hunter
+
+    a_r = hertz.half_width(1.0, 50.0, 10.0 / 0.75)
+    x, p = hunter.solve(1.0, 50.0, 1.0 / 20.0, [0.1 - 0.05], [ratio * a_r], 0.5, a_r / 40.0, period, thickness)
+    return float(np.sum(p * x) * (a_r / 40.0) / 50.0), float(p.max())  # direction -1: x_c / R
+
+
+def test_cover_of_ten_contact_widths_differs_from_the_half_plane_as_the_physics_does():
+    """At b/a_r = 10 a cover is not the half-plane within 0.5 %, and no correct model makes it so: the
+    flat-layer Fourier reference (a different route: the complex modulus times the closed-form
+    transfer matrix, an active-set contact, period 40 b) puts the cover's M/(P R) 0.39 %, 1.94 % and
+    7.5 % below the half-plane's at V tau_c / a_r = 0.3, 1, 3, and the elastic cover's (E_r = E_g,
+    today's tyre model) peak pressure 0.51 % above the elastic half-plane's (benchmarks/RESULTS.md).
+    So the check is relative to the model: the solved cover's difference from the solved
+    viscoelastic half-plane equals (M) the reference's and (peak pressure) the elastic cover's own
+    within 0.5 % of the cover's answer (measured: M 0.001 % at 1 and 0.10 % at 3, the peak 0.07 % and
+    0.04 %; the reference's own cell error in its difference, 20 against 40 cells per a_r, is 0.08 %). The
+    direct 0.5 % check holds from b/a_r = 30 (:func:`test_thick_cover_is_the_viscoelastic_half_plane`)."""
+    a_r = hertz.half_width(1.0, 50.0, 10.0 / 0.75)
+    elastic = {
+        "bodies.B.relaxed_young": None,
+        "bodies.B.creep_time": None,
+        "bodies.B.young": 10.0,
+        "rolling.speed": None,
+    }
+    half, cover = _rigid_roller(0.5, 10.0, 1.0, 60)  # with E_r: the same a_r, the same grid
+    half_e = solve(load_case(case_dict(half, **{**elastic, "bodies.B.kind": "elastic"})))
+    cover_e = solve(load_case(case_dict(cover, **{**elastic, "bodies.B.viscoelastic": None})))
+    peak_e = float(cover_e.p_n.min() / half_e.p_n.min()) - 1.0  # the elastic cover's stiffening
+    assert peak_e > 0.004  # it is there (0.51 %): the direct 0.5 % check could not hold at b/a_r = 10
+    for ratio in (1.0, 3.0):
+        half, cover = (solve(load_case(d)) for d in _rigid_roller(0.5, 10.0, ratio, 60))
+        ref_cover, _ = _flat_layer_reference(10.0 * a_r, ratio, 400.0 * a_r)
+        ref_half, _ = _flat_layer_reference(None, ratio, 400.0 * a_r)
+        expected = half.rolling_resistance_coefficient * (ref_cover / ref_half)
+        assert abs(ref_cover / ref_half - 1.0) > 0.005, ratio  # the physics' own difference exceeds 0.5 %
+        assert cover.rolling_resistance_coefficient == pytest.approx(expected, rel=0.005), ratio
+        peak = float(-cover.p_n.min())
+        assert peak - float(-half.p_n.min()) * (1.0 + peak_e) == pytest.approx(0.0, abs=0.005 * peak), ratio
+
+
 def test_two_thick_covers_creep_like_two_viscoelastic_cylinders():
     """Two identical covers (b = 30 a_r on R = 100, nu = 0.4, driven, Q/(mu P) = 0.5; the cross blocks
     cancel) against two identical SLS cylinders at V tau_c / a_r = 1: creepage, rolling resistance and

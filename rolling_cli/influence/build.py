@@ -44,10 +44,13 @@ if TYPE_CHECKING:  # the BEM package (and scipy.linalg) is imported only when a 
 log = logging.getLogger(__name__)
 
 
-def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance, dict[str, str]]:
+def pair_compliance(
+    case, the_plan, use_cache: bool = True, normal_only: bool = False
+) -> tuple[Compliance, dict[str, str]]:
     """The pair compliance on the plan's contact grid [length/stress], and where
     each body's influence came from ("computed", "cache", "reused", "rigid",
-    "closed form")."""
+    "closed form"). ``normal_only``: a viscoelastic layer's history on S_nn alone (a frictionless
+    normal solve, the a-estimate levels, never reads the other blocks)."""
     a, b = case.bodies.A, case.bodies.B
     coupling = the_plan.effects.coupling
     if the_plan.effects.influence == "half-plane":
@@ -66,7 +69,7 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
         elif label == "B" and the_plan.effects.identical_bodies:
             bodies[label], origin[label] = bodies["A"], "reused"
         else:
-            bodies[label], origin[label] = deformable_body(case, the_plan, body, use_cache)
+            bodies[label], origin[label] = deformable_body(case, the_plan, body, use_cache, normal_only)
     if a.finite or b.finite:  # exact geometry and hoop strain of finite cylinders
         from . import finite as _finite
 
@@ -77,9 +80,12 @@ def pair_compliance(case, the_plan, use_cache: bool = True) -> tuple[Compliance,
     return combine(bodies["A"], bodies["B"], coupling), origin
 
 
-def deformable_body(case, the_plan, body, use_cache: bool = True) -> tuple[Compliance, str]:
+def deformable_body(
+    case, the_plan, body, use_cache: bool = True, normal_only: bool = False
+) -> tuple[Compliance, str]:
     """One deformable body's own compliance on the plan's grid [length/stress] (BEM, with the
-    viscoelastic history terms of a finite cylinder or a cover) and where it came from."""
+    viscoelastic history terms of a finite cylinder or a cover; ``normal_only``: a cover's history
+    on S_nn alone) and where it came from."""
     inputs = bem_inputs(case, the_plan, body)
     found, origin = _bem_body(inputs, use_cache)
     if body.finite and from_body(body) is not None:  # periodic history round the annulus
@@ -92,7 +98,9 @@ def deformable_body(case, the_plan, body, use_cache: bool = True) -> tuple[Compl
                 _cylinder_memo.pop(next(iter(_cylinder_memo)))
         found = _cylinder_memo[key]
     elif viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
-        found = _viscoelastic_layer(found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction)
+        found = _viscoelastic_layer(
+            found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction, normal_only
+        )
     return found, origin
 
 
@@ -247,14 +255,16 @@ def _halfplane(grid, material_a, material_b, coupling) -> Compliance:
     return halfplane.materials_pair(grid, material_a, material_b, coupling)
 
 
-def _viscoelastic_layer(elastic: Compliance, grid: ContactGrid, body, speed: float, direction: int) -> Compliance:
+def _viscoelastic_layer(
+    elastic: Compliance, grid: ContactGrid, body, speed: float, direction: int, normal_only: bool = False
+) -> Compliance:
     """A viscoelastic layer's compliance from its elastic BEM layer (built with E = E_g)."""
     from . import viscoelastic_layer as layer
 
     model = from_body(body)
     if model is None:
         raise ValueError("not a viscoelastic body")
-    return layer.body_compliance(elastic, grid, model, float(body.layer_thickness), speed, direction)
+    return layer.body_compliance(elastic, grid, model, float(body.layer_thickness), speed, direction, normal_only)
 
 
 def _viscoelastic_cylinder(elastic: Compliance, grid: ContactGrid, body, speed: float, direction: int) -> Compliance:

@@ -49,7 +49,8 @@ the torque the shaft transmits divided by R (``shaft_torque``: the pressure,
 radial, has no moment about the centre), the creep force a rig's torque
 meter reads (to first order in the displacements: the tractions' displaced
 points add T_u, :mod:`rolling_cli.model.power_balance`). P is the force on
-the shaft's bearing along the line of centres (``shaft_load``): P = -(load_n p_n + load_t p_t) with load_n = w cos theta and
+the shaft's bearing along the line of centres (``shaft_load``):
+P = -(load_n p_n + load_t p_t) with load_n = w cos theta and
 load_t = -w sin theta (+ for a finite B alone, which carries -p_t:
 :func:`shaft_load_weights`), the pressure's projection plus the tangential
 traction's. ``normal.load`` prescribes this P: the solver's load row has these

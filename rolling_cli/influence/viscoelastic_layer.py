@@ -61,11 +61,13 @@ from .viscoelastic import elastic_shape_offsets, history_lengths, quadratic_offs
 _PHASES = 1 << 21
 
 
-def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths) -> np.ndarray:
+def fourier_offsets(
+    grid: ContactGrid, thickness: float, poisson: float, lengths, blocks: tuple[int, ...] = (0, 1, 2)
+) -> np.ndarray:
     """F^-1[R~ (i q b / (1 - i q b)) N~_k](y_oa) per element offset for each history length b in
-    ``lengths`` [length], shape (b, 3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) [length^2, at unit
-    modulus]: (1/pi) Re int_0^inf ... exp(i q y) dq, y the target node's offset from the source
-    element's centre (R_nt = -i g_R).
+    ``lengths`` [length], shape (b, blocks, 2 N_e - 1, 3, 3) [length^2, at unit modulus]: (1/pi) Re
+    int_0^inf ... exp(i q y) dq, y the target node's offset from the source element's centre
+    (R_nt = -i g_R); ``blocks`` picks of 0 nn, 1 tt, 2 nt (all three by default).
 
     The offsets are the multiples y = j h/3 (h the element length, j = 3 o + a - 1), so the
     phases are the powers z^j of z = exp(i q h/3) (a running product, round-off ~ j eps), and
@@ -78,7 +80,7 @@ def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     q, w = layer_fourier.wavenumbers((top + 3) * step, thickness, lengths)
     r_nn, r_tt, g_r = layer_fourier.remainder(q, thickness, poisson)
     shapes = layer_fourier.quadratic_spectra(q, half)  # (q, 3)
-    remainders = (r_nn, r_tt, -1j * g_r)
+    remainders = [(r_nn, r_tt, -1j * g_r)[k] for k in blocks]
     weighted = [w * (1j * q * b / (1.0 - 1j * q * b)) for b in lengths]  # the history's Lorentzian, per b
     columns = np.concatenate([(f * r)[:, None] * shapes for f in weighted for r in remainders], axis=1)
     low = q * (top * step) <= TAYLOR_PHASE  # |j q h/3| <= TAYLOR_PHASE for every j: the series
@@ -100,7 +102,8 @@ def fourier_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     ne = grid.elements
     j = 3 * np.arange(-(ne - 1), ne)[:, None] + np.arange(-1, 2)[None, :]  # (o, a)
     out = even[np.abs(j)] - np.sign(j)[..., None] * odd[np.abs(j)]  # (o, a, b 3 3)
-    return out.reshape(2 * ne - 1, 3, len(lengths), 3, 3).transpose(2, 3, 0, 1, 4)  # (b, block, o, a, k)
+    shape = (2 * ne - 1, 3, len(lengths), len(blocks), 3)
+    return out.reshape(shape).transpose(2, 3, 0, 1, 4)  # (b, block, o, a, k)
 
 
 def _phase_powers(theta: np.ndarray, top: int) -> np.ndarray:
@@ -153,10 +156,12 @@ def _taylor_phases(q: np.ndarray, columns: np.ndarray, top: int, step: float) ->
     return even + constant[None, :], odd
 
 
-def history_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths) -> np.ndarray:
+def history_offsets(
+    grid: ContactGrid, thickness: float, poisson: float, lengths, blocks: tuple[int, ...] = (0, 1, 2)
+) -> np.ndarray:
     """(C_b[K] - K) of the unit-modulus layer per element offset for each history length b in
-    ``lengths`` [length], shape (b, 3 blocks nn, tt, nt, 2 N_e - 1, 3, 3) [length^2]: the
-    half-plane's closed form plus the remainder's Fourier part."""
+    ``lengths`` [length], shape (b, blocks, 2 N_e - 1, 3, 3) [length^2], ``blocks`` of 0 nn, 1 tt,
+    2 nt (all three by default): the half-plane's closed form plus the remainder's Fourier part."""
     if grid.order != 2 or not grid.uniform:
         raise ValueError("the viscoelastic layer needs a uniform grid of quadratic elements")
     scale = _length_scale(grid)
@@ -164,11 +169,12 @@ def history_offsets(grid: ContactGrid, thickness: float, poisson: float, lengths
     log_shape, sign_shape = elastic_shape_offsets(grid.elements)
     elastic_log = half * (log_shape + np.log(half / scale) * shape_integrals(2)[None, None, :])
     elastic_sign = half * sign_shape
-    out = fourier_offsets(grid, thickness, poisson, lengths)
+    out = fourier_offsets(grid, thickness, poisson, lengths, blocks)
     for n, b in enumerate(lengths):
         log_b, sign_b = _halfplane_history(grid, float(b), scale)
         direct = 2.0 * (1.0 - poisson**2) / math.pi * (log_b - elastic_log)
-        out[n] += np.stack([direct, -direct, 0.5 * (1.0 - 2.0 * poisson) * (1.0 + poisson) * (sign_b - elastic_sign)])
+        closed = (direct, -direct, 0.5 * (1.0 - 2.0 * poisson) * (1.0 + poisson) * (sign_b - elastic_sign))
+        out[n] += np.stack([closed[k] for k in blocks])
     return out
 
 
@@ -255,10 +261,13 @@ def body_compliance(
     thickness: float,
     speed: float,
     direction: int,
+    normal_only: bool = False,
 ) -> Compliance:
     """The viscoelastic layer's compliance [length/stress] on ``grid`` from its elastic BEM layer
     ``elastic`` (built with E = E_g, the body's ``young``) [length/stress]: ``thickness`` b [length],
-    ``speed`` |V| [length/time], ``direction`` sgn(V).
+    ``speed`` |V| [length/time], ``direction`` sgn(V). ``normal_only``: the history on S_nn alone,
+    the other three blocks the relaxed layer's (J_r K_BEM), for a frictionless normal solve that
+    never reads them (the a-estimate levels: a third of the work).
 
     J_r K_BEM + sum_i c_i (C_i[K] - K) with C_i[K] - K = (C_i[K_F] - K_F) + (C_i[E] - E): the
     first from :func:`history_offsets`, the second the BEM's own departure E = K_BEM - K_F from
@@ -270,17 +279,19 @@ def body_compliance(
     if not terms:
         return Compliance(elastic.x, elastic.weights, out[0], out[1], out[2], out[3], definite_normal=True)
     fast = math.copysign(FAST * 2.0 * grid.half_width, terms[0][1])
-    offsets_all = history_offsets(grid, thickness, model.poisson, (fast, *(b for _, b in terms)))
-    minus_f = [_toeplitz_gather(grid, offsets_all[0, k]) for k in (0, 1, 2)]  # -K_F, unit modulus
+    kinds = (0,) if normal_only else (0, 1, 2)  # the Fourier blocks nn, tt, nt
+    targets = (0,) if normal_only else (0, 1, 2, 2)  # the output blocks' Fourier block: S_tn takes nt's
+    offsets_all = history_offsets(grid, thickness, model.poisson, (fast, *(b for _, b in terms)), kinds)
+    minus_f = [_toeplitz_gather(grid, offsets_all[0, k]) for k in range(len(kinds))]  # -K_F, unit modulus
     n = grid.size
-    stacked = np.empty((n, 4 * n))  # the departures E_g K_BEM - K_F side by side: one filter per term
-    for k, (block, f) in enumerate(zip(blocks, (0, 1, 2, 2), strict=True)):
-        np.add(model.glassy_young * block, minus_f[f], out=stacked[:, k * n : (k + 1) * n])
+    stacked = np.empty((n, len(targets) * n))  # the departures E_g K_BEM - K_F side by side: one filter
+    for k, f in enumerate(targets):
+        np.add(model.glassy_young * blocks[k], minus_f[f], out=stacked[:, k * n : (k + 1) * n])
     for (c, b), offsets in zip(terms, offsets_all[1:], strict=True):
         filtered = apply_upstream_filter(np.asarray(elastic.x, dtype=float), b, stacked)
         filtered -= stacked
-        history = [_toeplitz_gather(grid, offsets[block]) for block in (0, 1, 2)]
-        for k, block in enumerate((0, 1, 2, 2)):
+        history = [_toeplitz_gather(grid, offsets[block]) for block in range(len(kinds))]
+        for k, block in enumerate(targets):
             term = history[block] + filtered[:, k * n : (k + 1) * n]
             term *= c
             out[k] += term

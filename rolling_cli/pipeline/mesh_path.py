@@ -44,6 +44,7 @@ from .planning import (
     initial_state,
     plan,
     presolve_case,
+    repeats_estimate,
 )
 
 if TYPE_CHECKING:  # the adaptive levels are imported only with [discretization] tolerance (start-up)
@@ -67,8 +68,6 @@ def prepare(case: Case, use_cache: bool = True) -> tuple[Plan, ContactSystem]:
 
 #: Enlarging the potential zone: factor per step, and the largest zone / a.
 ZONE_GROWTH = 1.5
-
-
 ZONE_LIMIT = 8.0
 
 
@@ -140,6 +139,7 @@ class MeshPath:
                     zone *= 2.0
                     continue
                 close = abs(measured - guess) <= 2.0 * last.built.spacing
+                close = close or repeats_estimate(case, guess, zone, measured)  # the next level skipped
                 guess, zone = measured, 1.6
                 if close:
                     break
@@ -372,7 +372,9 @@ class MeshPath:
             if level.kind == "refined mesh" and level.plan.grid.uniform:
                 clear_memo()  # a refined level that came out uniform: keep no earlier level's influence in memory
             t0 = time.perf_counter()
-            level.system, level.origin = build_contact_system_with_origin(level.case, level.plan, self.use_cache)
+            level.system, level.origin = build_contact_system_with_origin(  # a-estimate: frictionless, normal
+                level.case, level.plan, self.use_cache, normal_only=level.kind == "a-estimate"
+            )
             self.timings["influence"] += time.perf_counter() - t0
             log.info("%s: contact system of %d nodes, %.3f s", level.kind, level.system.size, time.perf_counter() - t0)
         return level.system

@@ -217,12 +217,13 @@ def build_contact_system(case: Case, the_plan: Plan, use_cache: bool = True) -> 
 
 
 def build_contact_system_with_origin(
-    case: Case, the_plan: Plan, use_cache: bool = True
+    case: Case, the_plan: Plan, use_cache: bool = True, normal_only: bool = False
 ) -> tuple[ContactSystem, dict[str, str]]:
-    """As :func:`build_contact_system`, plus where each body's influence came from."""
+    """As :func:`build_contact_system`, plus where each body's influence came from; ``normal_only``
+    for a frictionless normal solve (:func:`~rolling_cli.influence.build.pair_compliance`)."""
     disc = case.discretization
     if the_plan.grid.uniform or the_plan.effects.influence == "bem":  # the BEM keys a graded grid on its edges
-        compliance, origin = pair_compliance(case, the_plan, use_cache)
+        compliance, origin = pair_compliance(case, the_plan, use_cache, normal_only)
     else:  # a graded grid (adaptive levels) on the half-plane: outside the influence memo
         compliance, origin = graded.graded_compliance(case, the_plan), {"A": "closed form", "B": "closed form"}
     penalty = None if case.solver.penalty == "auto" else float(case.solver.penalty)
@@ -342,14 +343,44 @@ SEQUENCING_ELEMENTS = 240
 FRICTION_SEQUENCING_ELEMENTS = 100
 
 
-def presolve_case(case: Case, guess: float, zone: float) -> Case:
-    """The coarse frictionless normal case that measures a around the guess ``guess`` [length]."""
+def _presolve_needed(case: Case, guess: float, zone: float) -> int:
+    """The pre-solve's elements that keep them :data:`PRESOLVE_LAYER_ELEMENT` layer thicknesses long
+    (0 without a layer)."""
     thinnest = min(
         (given(b.layer_thickness, "layer_thickness") for b in (case.bodies.A, case.bodies.B) if b.kind == "layered"),
         default=math.inf,
     )
-    needed = int(np.ceil(2.0 * zone * guess / (PRESOLVE_LAYER_ELEMENT * thinnest))) if thinnest < math.inf else 0
-    elements = int(min(max(PRESOLVE_ELEMENTS, needed), 400))
+    return int(np.ceil(2.0 * zone * guess / (PRESOLVE_LAYER_ELEMENT * thinnest))) if thinnest < math.inf else 0
+
+
+def presolve_set_by_layer(case: Case, guess: float, zone: float) -> bool:
+    """Whether the pre-solve of :func:`presolve_case` has its element length set by the layer
+    (:data:`PRESOLVE_LAYER_ELEMENT` thicknesses, up to the rounding of the element count), not by
+    the guess: then another guess gives the same resolution."""
+    return PRESOLVE_ELEMENTS <= _presolve_needed(case, guess, zone) <= PRESOLVE_MAX_ELEMENTS
+
+
+def repeats_estimate(case: Case, guess: float, zone: float, measured: float) -> bool:
+    """Whether the next a-estimate level (guess ``measured``, zone 1.6) can only repeat the width
+    ``measured`` [length] of this one (guess ``guess`` [length], ``zone``) within the estimate's
+    tolerance of two node spacings: both levels have their element length set by the layer
+    (:func:`presolve_set_by_layer`), so the next one has this one's resolution up to the rounding
+    of its element count (one element in 16 or more), and the contact lies inside its zone. The
+    contact node count then moves by a node or two at most (through that rounding: at one element
+    length the zone's size and the grid's parity move none, measured); the next level is skipped
+    and this width kept (a thin cover, 60 elements: 12 of 90 ms; benchmarks/scan_estimate_skip.py
+    for the answers that move, at the discretisation level)."""
+    return presolve_set_by_layer(case, guess, zone) and presolve_set_by_layer(case, measured, 1.6)
+
+
+#: The pre-solve's largest number of contact elements.
+PRESOLVE_MAX_ELEMENTS = 400
+
+
+def presolve_case(case: Case, guess: float, zone: float) -> Case:
+    """The coarse frictionless normal case that measures a around the guess ``guess`` [length]."""
+    needed = _presolve_needed(case, guess, zone)
+    elements = int(min(max(PRESOLVE_ELEMENTS, needed), PRESOLVE_MAX_ELEMENTS))
     return dataclasses.replace(
         case,
         stresses=None,

@@ -135,22 +135,31 @@ _BERNOULLI = (1.0 / 6.0, -1.0 / 30.0, 1.0 / 42.0, -1.0 / 30.0, 5.0 / 66.0, -691.
 def _digamma_difference(x: np.ndarray, beta: float) -> np.ndarray:
     """Re psi(1 + x - i beta) - psi(1 + x) for x >= 0, beta >= 0 [-], vectorised: the recurrence
     to w = 1 + x + N (- i beta) and the asymptotic series there (:data:`DIGAMMA_SHIFT`), the two
-    arguments' series subtracted term by term (accurate to a few 1e-16 of psi)."""
-
-    def series(z: np.ndarray) -> np.ndarray:
-        w = z + DIGAMMA_SHIFT
-        total = np.log(w) - 0.5 / w
-        inverse_square = 1.0 / (w * w)
-        power = inverse_square
-        for order, bernoulli in enumerate(_BERNOULLI, start=1):
-            total = total - bernoulli / (2 * order) * power
-            power = power * inverse_square
-        for m in range(DIGAMMA_SHIFT):
-            total = total - 1.0 / (z + m)
-        return total
-
-    real = 1.0 + np.asarray(x, dtype=float)
-    return np.real(series(real - 1j * beta)) - series(real)
+    arguments' series subtracted term by term in real arithmetic (u = 1 + x + m, U = 1 + x + N):
+    Re 1/(u - i beta) - 1/u = -beta^2 / (u (u^2 + beta^2)), Re ln(U - i beta) - ln U =
+    ln(1 + beta^2/U^2) / 2, the 1/(2w) and first Bernoulli terms' differences in closed form, the
+    higher ones from the real and imaginary parts of (U - i beta)^-2 and its powers. No complex
+    arrays; within 5e-15 absolute of the complex series' difference, and ~1e-9 relative at beta =
+    1e-6 (against -beta^2/2 psi''(1 + x)), where subtracting the two complex series lost 6e-3."""
+    u = 1.0 + np.asarray(x, dtype=float)
+    b2 = float(beta) ** 2
+    total = np.zeros_like(u)
+    for m in range(DIGAMMA_SHIFT):  # - sum_m [Re 1/(z + m) - 1/(x + 1 + m)]
+        v = u + m
+        total += b2 / (v * (v * v + b2))
+    big = u + DIGAMMA_SHIFT  # U
+    modulus = big * big + b2  # |w|^2
+    total += 0.5 * np.log1p(b2 / (big * big)) + 0.5 * b2 / (big * modulus)
+    square = big * big
+    re, im = (square - b2) / (modulus * modulus), 2.0 * big * float(beta) / (modulus * modulus)  # w^-2
+    real = 1.0 / square
+    total += _BERNOULLI[0] / 2.0 * b2 * (3.0 * square + b2) / (square * modulus * modulus)  # Re w^-2 - U^-2 exactly
+    power_re, power_im, real_power = re, im, real
+    for order, bernoulli in enumerate(_BERNOULLI[1:], start=2):  # |U^-2k| <= 11^-4: round-off ~1e-20 absolute
+        power_re, power_im = power_re * re - power_im * im, power_re * im + power_im * re
+        real_power = real_power * real
+        total -= bernoulli / (2 * order) * (power_re - real_power)
+    return total
 
 
 def body_power(h: float, p_n, t, compliances, lengths, poisson: float) -> float:
