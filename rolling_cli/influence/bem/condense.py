@@ -126,13 +126,49 @@ def contact_blocks(
             cols = np.maximum(part.unknown[contact, l], 0)
             row_factor = sign * part.sign[contact, k]
             col_factor = part.weight[contact, l]
+            col_runs = runs(cols)
             for start in range(0, nc, _ROWS):  # in row chunks: bounded temporaries
                 part_rows = slice(start, start + _ROWS)
-                gathered = response[np.ix_(rows[part_rows], cols)]
+                gathered = _gather(response, rows[part_rows], cols, col_runs)
                 gathered *= row_factor[part_rows, None]
                 gathered *= col_factor[None, :]
                 block[part_rows] += gathered
         out[name] = block
+    return out
+
+
+#: Index runs beyond which :func:`_gather` indexes element by element (np.ix_) instead of by slices.
+_MAX_RUNS = 16
+
+
+def _gather(matrix: np.ndarray, rows: np.ndarray, cols: np.ndarray, col_runs: list) -> np.ndarray:
+    """matrix[np.ix_(rows, cols)] (a new array, the same numbers), copied through strided views
+    where the indices are a few runs of step +-1 (a mirror half's contact parameters: one run
+    each way), ~4 times faster than fancy indexing; ``col_runs`` = :func:`runs` (cols)."""
+    row_runs = runs(rows)
+    if len(row_runs) * len(col_runs) > _MAX_RUNS:
+        return matrix[np.ix_(rows, cols)]
+    out = np.empty((rows.size, cols.size))
+    for target_rows, source_rows in row_runs:
+        for target_cols, source_cols in col_runs:
+            out[target_rows, target_cols] = matrix[source_rows, source_cols]
+    return out
+
+
+def runs(index: np.ndarray) -> list[tuple[slice, slice]]:
+    """(target, source) slice pairs covering the integer ``index`` array (n,): target the run's
+    positions in ``index``, source its values, for maximal stretches of steps all +1 or all -1
+    (a lone value is a run of its own)."""
+    step = np.diff(index)
+    cuts = np.flatnonzero((np.abs(step) != 1) | np.concatenate([[False], step[1:] != step[:-1]])) + 1
+    bounds = [0, *cuts.tolist(), index.size]
+    out = []
+    for lo, hi in zip(bounds[:-1], bounds[1:], strict=True):
+        if hi <= lo:
+            continue
+        by = int(step[lo]) if hi - lo > 1 else 1
+        first, stop = int(index[lo]), int(index[hi - 1]) + by
+        out.append((slice(lo, hi), slice(first, stop if stop >= 0 else None, by)))
     return out
 
 
