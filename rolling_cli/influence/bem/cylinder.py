@@ -46,7 +46,7 @@ import numpy as np
 from ...model.grid import ContactGrid
 from .. import Compliance
 from . import ring as rings
-from .condense import contact_blocks, factorise, solve, solve_small
+from .condense import contact_blocks, solve_all
 from .elements import GEOMETRY_COEFFICIENTS, evaluate, functional_nodes
 from .mesh import BoundaryMesh, _Builder, graded_edges
 from .symmetry import reductions
@@ -226,13 +226,7 @@ def _frame_blocks(
     shear = young / (2.0 * (1.0 + poisson))
     parts = reductions(mesh, far, grid.weights, mirror)
     ring = None if radius is None else rings.find(mesh, np.arange(grid.elements), np.array([0.0, -radius]))
-    systems = mixed_systems(mesh, shear, poisson, far, parts, ring)
-    solutions = []
-    while systems:
-        system = systems.pop(0)
-        small = solve_small(system.matrix, system.rhs)  # numpy's LAPACK: no scipy import (start-up)
-        solutions.append(small if small is not None else solve(factorise(system.matrix), system.rhs, overwrite=True))
-        del system
+    solutions = solve_all(mixed_systems(mesh, shear, poisson, far, parts, ring))
     return contact_blocks(solutions, parts, mesh, grid.weights)
 
 
