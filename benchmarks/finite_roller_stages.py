@@ -70,7 +70,8 @@ times["command (all)"] = time.process_time() - cpu1
 times["process CPU"] = time.process_time() - cpu0
 times["wall"] = time.perf_counter() - wall0
 times["page faults"] = usage.ru_minflt
-print(json.dumps({"times": times, "modules": sorted(m for m in sys.modules if "." not in m or m.startswith("rolling_cli"))}))
+modules = sorted(m for m in sys.modules if "." not in m or m.startswith("rolling_cli"))
+print(json.dumps({"times": times, "modules": modules}))
 """
 
 IMPORTS = r"""
