@@ -176,3 +176,17 @@ def test_console_reuses_freed_memory():
         assert run.returncode == 0, run.stderr.decode()
         counts[mode] = int(run.stdout)
     assert 4 * counts["reuse"] < counts["default"]
+
+
+def test_shape_functions_by_products_interpolate():
+    """:func:`elements.evaluate` (powers by products): each shape function is 1 at its own node and
+    0 at the other two (to rounding: 1e-15, the coefficients' inverse Vandermonde), and agrees
+    with the powers by ``**`` (libm's pow) within 1e-15."""
+    from rolling_cli.influence.bem.elements import evaluate, lagrange_coefficients
+
+    nodes = np.array([[-1.0, 0.0, 1.0], [-2.0 / 3.0, 0.0, 2.0 / 3.0], [-1.0, 0.0, 2.0 / 3.0]])
+    coefficients = lagrange_coefficients(nodes)
+    assert np.abs(evaluate(coefficients, nodes) - np.eye(3)).max() <= 1e-15
+    xi = np.random.default_rng(2).uniform(-1.0, 1.0, (3, 50))
+    powers = np.matmul(xi[..., None] ** np.arange(3), np.swapaxes(coefficients, -1, -2))
+    assert np.abs(evaluate(coefficients, xi) - powers).max() <= 1e-15
