@@ -519,8 +519,9 @@ def _fast_exit_safe() -> bool:
 
 
 #: glibc's mallopt parameters (malloc.h) and the values :func:`_reuse_freed_memory` sets: blocks up
-#: to 32 MiB (glibc's largest mmap threshold) from the heap, and the heap's free top kept up to 1 GiB.
-_MALLOC_SETTINGS = ((-3, 32 * 2**20), (-1, 2**30))  # M_MMAP_THRESHOLD, M_TRIM_THRESHOLD
+#: to 32 MiB (glibc's largest mmap threshold) from the heap, the heap's free top kept up to 1 GiB,
+#: and one arena (a BEM body's second thread allocates from the heap's reused pages too).
+_MALLOC_SETTINGS = ((-3, 32 * 2**20), (-1, 2**30), (-8, 1))  # M_MMAP_THRESHOLD, M_TRIM_THRESHOLD, M_ARENA_MAX
 
 
 def _reuse_freed_memory() -> None:
@@ -532,7 +533,9 @@ def _reuse_freed_memory() -> None:
     (arrays of 1-5 MB, allocated and freed many times) took ~40,000 page faults, ~0.1 s of system
     time on a virtual machine. With blocks up to 32 MiB from the heap and its top kept
     (``mallopt``, as the MALLOC_MMAP_THRESHOLD_ and MALLOC_TRIM_THRESHOLD_ variables would set
-    them) the freed pages are reused: ~18,000 faults, the same peak memory. The console command
+    them) the freed pages are reused: ~18,000 faults, the same peak memory (one arena: the
+    second thread of :func:`.influence.bem.condense.solve_all` adds ~2,500 faults and 8 MB of peak
+    memory in an arena of its own). The console command
     only (the library leaves its host's allocator alone); a no-op where the C library has no
     ``mallopt`` (not glibc) or refuses a value."""
     try:
