@@ -19,11 +19,9 @@ entry, so a reader never sees a partial entry and a crash leaves none.
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import json
 import logging
 import os
-import tempfile
 from collections.abc import Callable
 from pathlib import Path
 
@@ -66,11 +64,15 @@ def key_text(inputs: dict) -> str:
 
 def key(inputs: dict) -> str:
     """SHA-256 of :func:`key_text` (the entry's file name)."""
+    import hashlib  # lazy, as tempfile below: with the cache off, a process needs neither (~5 ms of imports)
+
     return hashlib.sha256(key_text(inputs).encode()).hexdigest()
 
 
 def checksum(arrays: dict[str, np.ndarray]) -> str:
     """SHA-256 over each array's name, dtype, shape and bytes, in name order."""
+    import hashlib
+
     digest = hashlib.sha256()
     for name in sorted(arrays):
         array = np.ascontiguousarray(arrays[name])
@@ -163,6 +165,8 @@ def write_entry(path: Path, inputs: dict, result: Compliance) -> None:
         **{name: getattr(result, name) for name in _BLOCKS},
     }
     path.parent.mkdir(parents=True, exist_ok=True)
+    import tempfile
+
     fd, tmp = tempfile.mkstemp(prefix=".entry.", suffix=".npz", dir=path.parent)
     try:
         with os.fdopen(fd, "wb") as handle:

@@ -46,7 +46,7 @@ import numpy as np
 from ...model.grid import ContactGrid
 from .. import Compliance
 from . import ring as rings
-from .condense import contact_blocks, factorise, solve, solve_small
+from .condense import contact_blocks, solve_all
 from .elements import GEOMETRY_COEFFICIENTS, evaluate, functional_nodes
 from .mesh import BoundaryMesh, _Builder, graded_edges
 from .symmetry import reductions
@@ -204,21 +204,8 @@ def xy_compliance(
     the contact displacement at node i per unit nodal traction at node j, for the bonded bore.
     With the outer ``radius`` [length] (of :func:`annulus_mesh`'s circle centred at (0, -R)), a
     uniform contact grid's elements are one ring (:mod:`.ring`): their mutual integrals by rotation."""
+    blocks = _frame_blocks(mesh, grid, young, poisson, mirror, radius)
     nc = grid.size
-    if mesh.contact.size != nc:
-        raise ValueError("the BEM contact nodes do not match the contact grid")
-    far = np.zeros((2 * mesh.size, 2))  # no far field: the shaft is the reference
-    shear = young / (2.0 * (1.0 + poisson))
-    parts = reductions(mesh, far, grid.weights, mirror)
-    ring = None if radius is None else rings.find(mesh, np.arange(grid.elements), np.array([0.0, -radius]))
-    systems = mixed_systems(mesh, shear, poisson, far, parts, ring)
-    solutions = []
-    while systems:
-        system = systems.pop(0)
-        small = solve_small(system.matrix, system.rhs)  # numpy's LAPACK: no scipy import (start-up)
-        solutions.append(small if small is not None else solve(factorise(system.matrix), system.rhs, overwrite=True))
-        del system
-    blocks = contact_blocks(solutions, parts, mesh, grid.weights)
     out = np.empty((nc, 2, nc, 2))
     out[:, 0, :, 0] = blocks["S_tt"]
     out[:, 0, :, 1] = blocks["S_tn"]
@@ -227,26 +214,63 @@ def xy_compliance(
     return out
 
 
+def _frame_blocks(
+    mesh: BoundaryMesh, grid: ContactGrid, young: float, poisson: float, mirror: bool, radius: float | None
+) -> dict[str, np.ndarray]:
+    """The blocks of :func:`.condense.contact_blocks` (n_c, n_c) [length/stress] in the mesh frame's
+    x (t) and y (n) components: S_tt = du_x/dt_x, S_tn = du_x/dt_y, S_nt = -du_y/dt_x,
+    S_nn = -du_y/dt_y (arguments as :func:`xy_compliance`)."""
+    if mesh.contact.size != grid.size:
+        raise ValueError("the BEM contact nodes do not match the contact grid")
+    far = np.zeros((2 * mesh.size, 2))  # no far field: the shaft is the reference
+    shear = young / (2.0 * (1.0 + poisson))
+    parts = reductions(mesh, far, grid.weights, mirror)
+    ring = None if radius is None else rings.find(mesh, np.arange(grid.elements), np.array([0.0, -radius]))
+    solutions = solve_all(mixed_systems(mesh, shear, poisson, far, parts, ring))
+    return contact_blocks(solutions, parts, mesh, grid.weights)
+
+
+def _frames(angles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The outward normals nu and the tangents tau (n, 2) at the polar ``angles`` (module docstring)."""
+    return np.column_stack([np.sin(angles), np.cos(angles)]), np.column_stack([np.cos(angles), -np.sin(angles)])
+
+
+def _arc_blocks(
+    xy: list[list[np.ndarray]], signs: tuple[float, float], theta: np.ndarray, theta_loads: np.ndarray | None
+) -> dict[str, np.ndarray]:
+    """The arc-frame blocks S_nn, S_nt, S_tn, S_tt (n_c, n_c) of the xy compliance whose component
+    (k, l) is ``signs[k] * xy[k][l]`` (n_c, n_c) (du_k/dt_l) [length/stress], as :func:`rotate`:
+    sum_kl left[i, k] C_kl[i, j] right[j, l] for the directions ``left`` at ``theta`` and
+    ``right`` at ``theta_loads``, by whole-array products (the signs ride on the direction
+    vectors: exact)."""
+    nu, tau = _frames(theta)
+    nu_load, tau_load = (nu, tau) if theta_loads is None else _frames(theta_loads)
+
+    def along(right: np.ndarray) -> list[np.ndarray]:  # sum_l C_kl[i, j] right[j, l], per k (up to its sign)
+        out = []
+        for k in range(2):
+            term = xy[k][0] * right[None, :, 0]
+            term += xy[k][1] * right[None, :, 1]
+            out.append(term)
+        return out
+
+    loads = {"t": along(tau_load), "n": along(nu_load)}
+    result = {}
+    for name, left, sign in (("S_tt", tau, 1.0), ("S_tn", tau, 1.0), ("S_nt", nu, -1.0), ("S_nn", nu, -1.0)):
+        inner = loads[name[-1]]
+        factor = sign * left * np.asarray(signs)[None, :]  # (n_c, 2)
+        block = inner[0] * factor[:, 0, None]
+        block += inner[1] * factor[:, 1, None]
+        result[name] = block
+    return result
+
+
 def rotate(xy: np.ndarray, theta: np.ndarray, theta_loads: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """The arc-frame blocks S_nn, S_nt, S_tn, S_tt (n_c, n_c) [length/stress] of an xy compliance
     (n_c, 2, n_c, 2): displacements in the directions at the angles ``theta`` (module docstring),
     tractions in those at ``theta_loads`` (default the same)."""
-
-    def frame(angles):
-        return np.column_stack([np.sin(angles), np.cos(angles)]), np.column_stack([np.cos(angles), -np.sin(angles)])
-
-    nu, tau = frame(theta)
-    nu_load, tau_load = (nu, tau) if theta_loads is None else frame(theta_loads)
-
-    def block(left: np.ndarray, right: np.ndarray) -> np.ndarray:
-        return np.ascontiguousarray(np.einsum("ik,ikjl,jl->ij", left, xy, right, optimize=True))
-
-    return {
-        "S_tt": block(tau, tau_load),
-        "S_tn": block(tau, nu_load),
-        "S_nt": -block(nu, tau_load),
-        "S_nn": -block(nu, nu_load),
-    }
+    components = [[xy[:, k, :, l] for l in range(2)] for k in range(2)]
+    return _arc_blocks(components, (1.0, 1.0), theta, theta_loads)
 
 
 def condensed(
@@ -261,5 +285,7 @@ def condensed(
     """Condensed compliance of the bonded annulus on the contact grid, in the arc's directions
     [length/stress] (module docstring); lengths [length], ``young`` E [stress]."""
     mesh = annulus_mesh(grid, radius, inner_radius, largest=largest)
-    blocks = rotate(xy_compliance(mesh, grid, young, poisson, mirror, radius), contact_angles(mesh, radius))
+    frame = _frame_blocks(mesh, grid, young, poisson, mirror, radius)
+    xy = [[frame["S_tt"], frame["S_tn"]], [frame["S_nt"], frame["S_nn"]]]  # du_y/dt_l = -S_n., by the sign below
+    blocks = _arc_blocks(xy, (1.0, -1.0), contact_angles(mesh, radius), None)
     return Compliance(x=grid.x, weights=grid.weights, definite_normal=True, **blocks)
