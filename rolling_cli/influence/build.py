@@ -80,9 +80,7 @@ def pair_compliance(
     return combine(bodies["A"], bodies["B"], coupling), origin
 
 
-def deformable_body(
-    case, the_plan, body, use_cache: bool = True, normal_only: bool = False
-) -> tuple[Compliance, str]:
+def deformable_body(case, the_plan, body, use_cache: bool = True, normal_only: bool = False) -> tuple[Compliance, str]:
     """One deformable body's own compliance on the plan's grid [length/stress] (BEM, with the
     viscoelastic history terms of a finite cylinder or a cover; ``normal_only``: a cover's history
     on S_nn alone) and where it came from."""
