@@ -31,8 +31,8 @@ from finite_roller import CASE  # noqa: E402
 CHILD = r"""
 import json, resource, sys, time
 wall0, cpu0 = time.perf_counter(), time.process_time()
-from rolling_cli import cli
-cli._reuse_freed_memory() if hasattr(cli, "_reuse_freed_memory") else None
+from rolling_cli import cli, process
+process.reuse_freed_memory()
 import rolling_cli.influence.bem.cylinder as cyl
 import rolling_cli.solver.newton as newton
 import rolling_cli.files.io_hdf5 as io

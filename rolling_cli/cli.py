@@ -19,6 +19,7 @@ from pathlib import Path
 
 import click
 
+from . import process
 from ._version import __version__
 from .errors import CaseError, GrossSlidingError, RollingError, SolveError
 from .terminal import Progress, log_levels, setup_logging, verbosity_options  # noqa: F401 (log_levels: the CLI's public name)
@@ -499,55 +500,6 @@ def _terminate(signum, frame):  # pragma: no cover - exercised by the kill test 
     raise KeyboardInterrupt
 
 
-#: Modules whose presence means the process may still own workers, threads or files that only the
-#: interpreter's own shutdown ends cleanly: with any of them loaded, :func:`entry` exits normally.
-_SLOW_EXIT_MODULES = ("multiprocessing", "concurrent.futures.process", "distributed", "dask", "matplotlib")
-
-
-def _fast_exit_safe() -> bool:
-    """Whether the process may end without the interpreter's teardown: only the main thread runs, no
-    worker machinery is loaded and no HDF5 file is open (HDF5's own exit handler would flush it)."""
-    if any(name in sys.modules for name in _SLOW_EXIT_MODULES):
-        return False
-    threading = sys.modules.get("threading")
-    if threading is not None and threading.active_count() > 1:
-        return False
-    h5py = sys.modules.get("h5py")
-    if h5py is not None and h5py.h5f.get_obj_count(h5py.h5f.OBJ_ALL, h5py.h5f.OBJ_FILE):
-        return False
-    return True
-
-
-#: glibc's mallopt parameters (malloc.h) and the values :func:`_reuse_freed_memory` sets: blocks up
-#: to 32 MiB (glibc's largest mmap threshold) from the heap, the heap's free top kept up to 1 GiB,
-#: and one arena (a BEM body's second thread allocates from the heap's reused pages too).
-_MALLOC_SETTINGS = ((-3, 32 * 2**20), (-1, 2**30), (-8, 1))  # M_MMAP_THRESHOLD, M_TRIM_THRESHOLD, M_ARENA_MAX
-
-
-def _reuse_freed_memory() -> None:
-    """Let the process reuse the memory of freed arrays instead of returning it to the system.
-
-    By default glibc serves large blocks (above a threshold that adapts from 128 KiB) by mmap
-    and returns freed ones and the heap's free top to the system, so the next array of that
-    size faults in every page anew (zeroed by the kernel): a finite roller's build and solve
-    (arrays of 1-5 MB, allocated and freed many times) took ~40,000 page faults, ~0.1 s of system
-    time on a virtual machine. With blocks up to 32 MiB from the heap and its top kept
-    (``mallopt``, as the MALLOC_MMAP_THRESHOLD_ and MALLOC_TRIM_THRESHOLD_ variables would set
-    them) the freed pages are reused: ~18,000 faults, the same peak memory (one arena: the
-    second thread of :func:`.influence.bem.condense.solve_all` adds ~2,500 faults and 8 MB of peak
-    memory in an arena of its own). The console command
-    only (the library leaves its host's allocator alone); a no-op where the C library has no
-    ``mallopt`` (not glibc) or refuses a value."""
-    try:
-        import ctypes
-
-        mallopt = ctypes.CDLL(None).mallopt
-    except (OSError, AttributeError):  # no C library to load, or not glibc's
-        return
-    for parameter, value in _MALLOC_SETTINGS:
-        mallopt(parameter, value)
-
-
 def entry() -> None:
     """The ``rollc`` console script (and ``python -m rolling_cli``): :func:`main`, then a quick exit.
 
@@ -555,7 +507,7 @@ def entry() -> None:
     imports of a half-plane solve would trigger ~60 collections, ~10 ms, freeing ~300 objects. The
     interpreter's teardown (freeing every module of numpy, h5py and the package one by one) costs
     ~20-30 ms, a tenth of a half-plane solve's whole process, and does nothing a finished command
-    needs. So once the command has returned, with the process quiet (:func:`_fast_exit_safe`: no
+    needs. So once the command has returned, with the process quiet (:func:`.process.fast_exit_safe`: no
     worker machinery or plotting loaded, one thread, no HDF5 file open, so h5py's exit handler has
     nothing to close), logging is shut down (``logging.shutdown``: the one exit handler with work
     left), stdout and stderr are flushed and the process ends with the command's exit code
@@ -563,7 +515,7 @@ def entry() -> None:
     pipe), Python exits the usual way. :func:`main` itself never ends the process early: it
     stays callable from Python and from tests.
     """
-    _reuse_freed_memory()
+    process.reuse_freed_memory()
     gc.disable()  # until the command's imports are done (_imported): they are most of its collections
     try:
         main()
@@ -572,7 +524,7 @@ def entry() -> None:
         code = exit.code  # type: ignore[assignment]  # None or a message: handled below
     finally:
         gc.enable()
-    if not isinstance(code, int) or not _fast_exit_safe():  # None, a message: Python's own handling
+    if not isinstance(code, int) or not process.fast_exit_safe():  # None, a message: Python's own handling
         sys.exit(code)
     logging.shutdown()
     try:

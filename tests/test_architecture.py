@@ -31,7 +31,7 @@ LAYERS = [
     {"files"},
     {"report"},
     {"study"},
-    {"terminal"},
+    {"terminal", "process"},
     {"cli", "__main__", ""},
 ]
 

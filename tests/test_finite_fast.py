@@ -145,9 +145,9 @@ def test_small_or_single_cpu_systems_are_solved_in_turn(monkeypatch):
 _FAULTS = """
 import resource, sys
 import numpy as np
-from rolling_cli import cli
+from rolling_cli import process
 if sys.argv[1] == "reuse":
-    cli._reuse_freed_memory()
+    process.reuse_freed_memory()
 before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
 for k in range(40):
     a = np.ones(int(300_000 * 1.02**k))  # 2.4 MB growing to 5.3 MB, each freed before the next

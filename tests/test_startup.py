@@ -138,20 +138,20 @@ def test_entry_quick_exit_keeps_output_file_and_exit_codes(tmp_path):
 _SAFE = """
 import sys, threading
 import h5py
-from rolling_cli import cli
-states = [cli._fast_exit_safe()]
+from rolling_cli import process
+states = [process.fast_exit_safe()]
 handle = h5py.File(sys.argv[1], "w")
-states.append(cli._fast_exit_safe())
+states.append(process.fast_exit_safe())
 handle.close()
 stop = threading.Event()
 worker = threading.Thread(target=stop.wait)
 worker.start()
-states.append(cli._fast_exit_safe())
+states.append(process.fast_exit_safe())
 stop.set()
 worker.join()
-states.append(cli._fast_exit_safe())
+states.append(process.fast_exit_safe())
 import multiprocessing  # noqa: F401
-states.append(cli._fast_exit_safe())
+states.append(process.fast_exit_safe())
 print(states)
 """
 
@@ -165,7 +165,7 @@ def test_quick_exit_only_when_the_process_is_quiet(tmp_path):
 
 _GC = """
 import atexit, gc, json, sys
-from rolling_cli import cli, pipeline
+from rolling_cli import cli, pipeline, process
 seen = []
 original = pipeline.solve
 def solve(*args, **kwargs):
@@ -174,7 +174,7 @@ def solve(*args, **kwargs):
 pipeline.solve = solve
 report = lambda: print(json.dumps({"during_solve": seen, "frozen": gc.get_freeze_count(), "after": gc.isenabled()}))
 atexit.register(report)
-cli._fast_exit_safe = lambda: False  # the usual exit, which runs the report (this test is about collection)
+process.fast_exit_safe = lambda: False  # the usual exit, which runs the report (this test is about collection)
 sys.argv = ["rollc", "-q", "solve", sys.argv[1], "-o", "r.h5"]
 cli.entry()
 """
