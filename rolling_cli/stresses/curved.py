@@ -1,0 +1,326 @@
+"""Stresses inside a BEM body meshed with CURVED quadratic elements (the Somigliana identity).
+
+The identity is :mod:`.bem`'s (Muskhelishvili's complex form; read its
+docstring), written with dt = e^{i theta} ds so that every term is a Cauchy
+integral in the complex boundary coordinate t. With F = g e^{-i theta} (the
+boundary value of phi') and H = h e^{-i theta}, h = -i conj(tau) - conj(g):
+
+    2 pi i phi'(zeta) = int F / (t - zeta) dt
+    pi i (sigma_yy - sigma_xx + 2 i sigma_xy)
+        = int H / (t - zeta) dt - int conj(t - zeta) F / (t - zeta)^2 dt.
+
+On an isoparametric element t(xi) = m + c tau(xi) (m the chord's mid-point,
+c its half-chord as a complex number, tau(xi) = xi + beta (1 - xi^2) the
+element in its own chord frame, beta = (t_mid - m) / c) the point is
+z = (zeta - m) / c and, with conj(tau - z) = (tau - z) - 2 i Im tau + 2 i Im z,
+
+    int F/(t - zeta) dt = A[F],   int conj(t - zeta) F/(t - zeta)^2 dt
+        = conj(c)/c (A[F] + 2 i Im z B[F] - 2 i B[(Im tau) F]),
+
+A[f] = int_Gamma f / (tau - z) dtau, B[f] = int_Gamma f / (tau - z)^2 dtau
+along the curved element Gamma from -1 to 1: no cancellation near the element.
+
+Quadrature by distance (|z| in half-chords from the chord's mid-point):
+
+* |z| >= :data:`FAR` (most pairs): Gauss-Legendre with :data:`FAR_NODES`
+  points in xi, one dense matrix product per chunk of points (relative
+  error about rho^(-2 n) for the Bernstein ellipse through z, rho >= 7.9:
+  < 2e-11);
+* :data:`NEAR` <= |z| < FAR: Gauss with :data:`MEDIUM_NODES` points
+  (rho >= 4.8: < 3e-14);
+* |z| < NEAR: product integration (Helsing & Ojala 2008): f along Gamma
+  interpolated as a polynomial of degree NODES - 1 in tau at the Gauss
+  points, whose monomials integrate exactly along the straight chord by the
+  recursions p_{k+1} = z p_k + (1 - (-1)^(k+1))/(k+1), p_0 = log((1 - z)/(-1 - z)),
+  q_k = p_{k-1} + z q_{k-1}, q_0 = -2/(1 - z^2); the chord and Gamma differ by
+  the residue 2 pi i f(z) (or f'(z)) when z lies between them (the lens),
+  with the sign of the loop's orientation. Exact for the interpolated data up
+  to the interpolation of smooth functions of xi at any distance from the
+  element (the recursion's growth |z|^NODES < 6e4 stays far below 1/eps).
+
+Boundary points (within :data:`ON_BOUNDARY` half-chords of an element, on
+either side: a point of the true circle is within (h/R)^3 h of its quadratic
+element) get the stress recovered from the traction and the tangential strain
+(:func:`boundary_stresses`), as :mod:`.bem`. Straight elements are the case
+beta = 0, so the module also serves straight meshes (the tests compare them).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..influence.bem.elements import gauss, lagrange_coefficients
+from ..influence.bem.mesh import BoundaryMesh
+
+#: Gauss points of the product integration (its interpolation degree + 1).
+NODES = 12
+#: Gauss points of the medium rule.
+MEDIUM_NODES = 10
+#: Gauss points of the far rule.
+FAR_NODES = 6
+#: |z| (half-chords) below which a pair is integrated by product integration.
+NEAR = 2.5
+#: |z| from which the far rule serves.
+FAR = 4.0
+#: A point within this many half-chords of an element is a boundary point.
+ON_BOUNDARY = 1e-6
+#: Complex entries per chunk of the dense far sum (bounds its temporaries to ~50 MB).
+CHUNK = 1_000_000
+
+
+@dataclass(frozen=True)
+class CurvedData:
+    """Per-element data of a boundary solution on curved quadratic elements.
+
+    ``mid`` (E,) chord mid-points and ``chord`` (E,) half-chords (complex) [length]; ``beta`` (E,)
+    the element's bulge in its chord frame; ``coeff`` (E, 3, 3) Lagrange coefficients of its
+    functional nodes; ``disp`` (E, 3) [length] and ``traction`` (E, 3) [stress] complex nodal
+    values; ``shear`` G [stress], ``poisson`` nu.
+    """
+
+    mid: np.ndarray
+    chord: np.ndarray
+    beta: np.ndarray
+    coeff: np.ndarray
+    disp: np.ndarray
+    traction: np.ndarray
+    shear: float
+    poisson: float
+
+    def at(self, xi: np.ndarray, element: np.ndarray | None = None):
+        """At local xi (E, G) of every element (or (K,) of ``element``): point t, dt/dxi, the
+        displacement D, dD/dxi [length] and the traction [stress] (complex)."""
+        sel = slice(None) if element is None else element
+        x = np.asarray(xi, dtype=float)
+        if element is None:
+            x = np.broadcast_to(x, (self.mid.size,) + x.shape[-1:])
+        mid, chord, beta = (v[sel] for v in (self.mid, self.chord, self.beta))
+        expand = (lambda v: v[:, None]) if element is None else (lambda v: v)
+        tau = x + expand(beta) * (1.0 - x * x)
+        point = expand(mid) + expand(chord) * tau
+        dpoint = expand(chord) * (1.0 - 2.0 * expand(beta) * x)
+        coeff = self.coeff[sel]  # (K, 3 nodes, 3 powers)
+        powers = np.stack([np.ones_like(x), x, x * x], axis=-1)
+        dpowers = np.stack([np.zeros_like(x), np.ones_like(x), 2.0 * x], axis=-1)
+        if element is None:
+            shape, dshape = np.einsum("egm,ekm->egk", powers, coeff), np.einsum("egm,ekm->egk", dpowers, coeff)
+            disp, trac = self.disp, self.traction
+            return (
+                point,
+                dpoint,
+                *(np.einsum("egk,ek->eg", s, v) for s, v in ((shape, disp), (dshape, disp))),
+                (np.einsum("egk,ek->eg", shape, trac)),
+            )
+        shape, dshape = np.einsum("km,kjm->kj", powers, coeff), np.einsum("km,kjm->kj", dpowers, coeff)
+        disp, trac = self.disp[sel], self.traction[sel]
+        return point, dpoint, (shape * disp).sum(1), (dshape * disp).sum(1), (shape * trac).sum(1)
+
+
+def curved_data(mesh: BoundaryMesh, u: np.ndarray, t: np.ndarray, shear: float, poisson: float) -> CurvedData:
+    """The element data of nodal ``u`` [length] and ``t`` [stress] (N, 2) on ``mesh``; G [stress]."""
+    g = mesh.geometry[..., 0] + 1j * mesh.geometry[..., 1]  # (E, 3) start, middle, end
+    mid, chord = 0.5 * (g[:, 0] + g[:, 2]), 0.5 * (g[:, 2] - g[:, 0])
+    conn = mesh.connectivity
+    return CurvedData(
+        mid=mid,
+        chord=chord,
+        beta=(g[:, 1] - mid) / chord,
+        coeff=lagrange_coefficients(mesh.local),
+        disp=u[conn, 0] + 1j * u[conn, 1],
+        traction=t[conn, 0] + 1j * t[conn, 1],
+        shear=float(shear),
+        poisson=float(poisson),
+    )
+
+
+def densities(data: CurvedData, xi: np.ndarray) -> dict[str, np.ndarray]:
+    """At local ``xi`` (G,) of every element: the point t, tau(xi), dt/dxi and F, H, (Im tau) F [stress]."""
+    point, dpoint, _, ddisp, traction = data.at(xi)
+    jac = np.abs(dpoint)
+    back = np.conj(dpoint) / jac  # e^{-i theta}
+    kappa = 3.0 - 4.0 * data.poisson
+    g = (2.0 * data.shear * ddisp / jac + 1j * traction) / (1.0 + kappa)
+    h = -1j * np.conj(traction) - np.conj(g)
+    tau = (point - data.mid[:, None]) / data.chord[:, None]
+    return {"t": point, "tau": tau, "dt": dpoint, "F": g * back, "H": h * back, "M": tau.imag * g * back}
+
+
+def interior_stresses(data: CurvedData, points: np.ndarray) -> np.ndarray:
+    """(sigma_xx, sigma_yy, sigma_xy) [stress], shape (3, P), at interior points (P, 2) [length]."""
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    zeta = points[:, 0] + 1j * points[:, 1]
+    first = np.zeros(zeta.size, dtype=complex)  # 2 pi i phi'
+    second = np.zeros(zeta.size, dtype=complex)  # pi i (sigma_yy - sigma_xx + 2 i sigma_xy)
+    step = max(1, CHUNK // (FAR_NODES * data.mid.size))
+    for start in range(0, zeta.size, step):  # chunks of points: the (point, element) arrays stay bounded
+        part = slice(start, start + step)
+        z = _local(data, zeta[part])
+        size = np.abs(z)
+        one, two = first[part], second[part]  # views: the sums add into first and second
+        _far_sum(data, zeta[part], size >= FAR, one, two)
+        _gauss_pairs(data, zeta[part], np.nonzero((size >= NEAR) & (size < FAR)), one, two)
+        near = np.nonzero(size < NEAR)
+        _product_pairs(data, z[near], near, one, two)
+    trace = 4.0 * (first / (2j * np.pi)).real
+    second = second / (1j * np.pi)
+    return np.stack([0.5 * (trace - second.real), 0.5 * (trace + second.real), 0.5 * second.imag])
+
+
+def _local(data: CurvedData, zeta: np.ndarray) -> np.ndarray:
+    """z (P, E): the points in each element's chord frame."""
+    return (zeta[:, None] - data.mid[None, :]) / data.chord[None, :]
+
+
+def _far_sum(data, zeta, mask, first, second) -> None:
+    """Add the far pairs (``mask`` (P, E)) by the FAR_NODES Gauss rule (dense: one chunk of points)."""
+    xi, w = gauss(FAR_NODES)
+    d = densities(data, xi)
+    t = d["t"].ravel()
+    wF, wH = (w * d["dt"] * d["F"]).ravel(), (w * d["dt"] * d["H"]).ravel()
+    diff = t[None, :] - zeta[:, None]  # (p, E G)
+    kernel = np.zeros_like(diff)
+    np.divide(1.0, diff, out=kernel, where=np.repeat(mask, FAR_NODES, axis=1))
+    first += kernel @ wF
+    diff = np.conj(diff, out=diff)
+    diff *= kernel
+    diff *= kernel
+    second += kernel @ wH - diff @ wF
+
+
+def _gauss_pairs(data, zeta, pairs, first, second) -> None:
+    """Add the (point, element) ``pairs`` by the NODES Gauss rule (vectorised over pairs)."""
+    points, elements = pairs
+    if points.size == 0:
+        return
+    xi, w = gauss(MEDIUM_NODES)
+    d = densities(data, xi)
+    diff = d["t"][elements] - zeta[points, None]  # (K, G)
+    kernel = 1.0 / diff
+    wdt = w * d["dt"][elements]
+    first += _gather(points, (kernel * wdt * d["F"][elements]).sum(1), first.size)
+    term = kernel * wdt * (d["H"][elements] - np.conj(diff) * kernel * d["F"][elements])
+    second += _gather(points, term.sum(1), second.size)
+
+
+def _product_pairs(data, z, pairs, first, second) -> None:
+    """Add the near ``pairs`` (z (K,) in the chord frames) by product integration (module docstring)."""
+    points, elements = pairs
+    if points.size == 0:
+        return
+    xi, _ = gauss(NODES)
+    d = densities(data, xi)
+    tau = d["tau"][elements]  # (K, G) interpolation nodes along Gamma
+    vander = tau[:, :, None] ** np.arange(NODES)  # (K, G, k)
+    values = np.stack([d[name][elements] for name in ("F", "H", "M")], axis=-1)  # (K, G, 3)
+    coeff = np.linalg.solve(vander, values)  # (K, k, 3) monomial coefficients in tau
+    lens, sign, z = _lens(data.beta[elements], z)
+    p, q = _monomials(z)  # (K, k)
+    A = np.einsum("kn,knd->kd", p, coeff)
+    B = np.einsum("kn,knd->kd", q, coeff)
+    if np.any(lens):  # the residues of the loop between the chord and Gamma
+        powers = z[lens, None] ** np.arange(NODES)
+        dpowers = np.zeros_like(powers)
+        dpowers[:, 1:] = np.arange(1, NODES) * powers[:, :-1]
+        A[lens] += 2j * np.pi * sign[lens, None] * np.einsum("kn,knd->kd", powers, coeff[lens])
+        B[lens] += 2j * np.pi * sign[lens, None] * np.einsum("kn,knd->kd", dpowers, coeff[lens])
+    chord = data.chord[elements]
+    A_F, A_H, B_F, B_M = A[:, 0], A[:, 1], B[:, 0], B[:, 2]
+    conj_term = np.conj(chord) / chord * (A_F + 2j * z.imag * B_F - 2j * B_M)
+    first += _gather(points, A_F, first.size)
+    second += _gather(points, A_H - conj_term, second.size)
+
+
+def _gather(index: np.ndarray, values: np.ndarray, size: int) -> np.ndarray:
+    """Sums of complex ``values`` by ``index`` (0 .. size - 1)."""
+    return np.bincount(index, values.real, size) + 1j * np.bincount(index, values.imag, size)
+
+
+def _lens(beta: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Which z lie between the chord and the element (the residue's sign: +1 when the element lies
+    below its chord, -1 above), and z nudged off the chord inside the lens (its log's branch cut)."""
+    xi, bulge = _foot(beta, z)
+    lens = (np.abs(z.real) < 1.0) & (bulge != 0.0) & (z.imag / np.where(bulge == 0.0, 1.0, bulge) > 0.0)
+    lens &= np.abs(z.imag) < np.abs(bulge)
+    on_chord = (np.abs(z.real) < 1.0) & (np.abs(z.imag) < 1e-13) & (bulge != 0.0)
+    z = np.where(on_chord, z.real + 1e-13j * np.sign(bulge), z)
+    lens |= on_chord
+    return lens, np.where(bulge > 0.0, -1.0, 1.0), z
+
+
+def _foot(beta: np.ndarray, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """xi where Re tau(xi) = Re z on an element (the root in [-1, 1] near Re z) and Im tau there."""
+    b = beta.real
+    x = z.real
+    root = np.sqrt(np.maximum(1.0 - 4.0 * b * (x - b), 0.0))
+    xi = 2.0 * (x - b) / (1.0 + root)
+    return xi, beta.imag * (1.0 - xi * xi) + 0.0 * b
+
+
+def _monomials(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """p_k = int_{-1}^{1} tau^k/(tau - z), q_k = int tau^k/(tau - z)^2 along the chord, k < NODES."""
+    p = np.empty((z.size, NODES), dtype=complex)
+    q = np.empty_like(p)
+    p[:, 0] = np.log((1.0 - z) / (-1.0 - z))
+    q[:, 0] = -2.0 / (1.0 - z * z)
+    for k in range(1, NODES):  # recursions over the degree (not over points or elements)
+        p[:, k] = z * p[:, k - 1] + (1.0 - (-1.0) ** k) / k
+        q[:, k] = p[:, k - 1] + z * q[:, k - 1]
+    return p, q
+
+
+def locate(data: CurvedData, points: np.ndarray, tolerance: float = ON_BOUNDARY) -> tuple[np.ndarray, np.ndarray]:
+    """The element each point (P, 2) lies on (-1: none) and its xi, within ``tolerance`` half-chords
+    of the element (the nearest element wins)."""
+    zeta = points[:, 0] + 1j * points[:, 1]
+    z = _local(data, zeta)
+    xi, bulge = _foot(np.broadcast_to(data.beta, z.shape), z)
+    inside = np.abs(xi) <= 1.0 + 1e-12
+    dist = np.where(inside, np.abs(z.imag - bulge), np.inf) * np.abs(data.chord)[None, :]
+    best = np.argmin(dist, axis=1)
+    rows = np.arange(zeta.size)
+    found = dist[rows, best] <= tolerance * np.abs(data.chord[best])
+    return np.where(found, best, -1), np.where(found, np.clip(xi[rows, best], -1.0, 1.0), 0.0)
+
+
+def boundary_stresses(data: CurvedData, element: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """(sigma_xx, sigma_yy, sigma_xy) [stress], (3, P), at boundary points (element, xi): sigma_nn and
+    sigma_sn from the traction, sigma_ss = (2 G eps_ss + nu sigma_nn) / (1 - nu) from the tangential
+    strain eps_ss = Re(dD/ds e^{-i theta}) (plane strain)."""
+    _, dpoint, _, ddisp, traction = data.at(np.asarray(xi, dtype=float), np.asarray(element))
+    jac = np.abs(dpoint)
+    back = np.conj(dpoint) / jac
+    local = traction * back  # (sigma_sn, -sigma_nn): outward normal n = -i e^{i theta}
+    sigma_sn, sigma_nn = local.real, -local.imag
+    strain = (ddisp / jac * back).real
+    sigma_ss = (2.0 * data.shear * strain + data.poisson * sigma_nn) / (1.0 - data.poisson)
+    c, s = back.real, -back.imag  # tangent (c, s), outward normal (s, -c)
+    sxx = sigma_ss * c * c + sigma_nn * s * s + 2.0 * sigma_sn * c * s
+    syy = sigma_ss * s * s + sigma_nn * c * c - 2.0 * sigma_sn * c * s
+    sxy = (sigma_ss - sigma_nn) * c * s + sigma_sn * (s * s - c * c)
+    return np.stack([sxx, syy, sxy])
+
+
+def stresses(
+    mesh: BoundaryMesh, u: np.ndarray, t: np.ndarray, shear: float, poisson: float, points, located=None
+) -> np.ndarray:
+    """(sigma_xx, sigma_yy, sigma_xy) [stress], (3, P), at points (P, 2) [length] inside or on the boundary.
+
+    ``u`` [length], ``t`` [stress] the nodal boundary values (N, 2), G [stress]. ``located``: the
+    boundary points' (element, xi) when the caller knows them ((P,) each, element -1 elsewhere);
+    other points are boundary points within :data:`ON_BOUNDARY` half-chords of an element.
+    """
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    data = curved_data(mesh, np.asarray(u, dtype=float), np.asarray(t, dtype=float), shear, poisson)
+    element, xi = locate(data, points)
+    if located is not None:
+        given = np.asarray(located[0]) >= 0
+        element[given], xi[given] = np.asarray(located[0])[given], np.asarray(located[1])[given]
+    on = element >= 0
+    out = np.empty((3, points.shape[0]))
+    if np.any(on):
+        out[:, on] = boundary_stresses(data, element[on], xi[on])
+    if np.any(~on):
+        out[:, ~on] = interior_stresses(data, points[~on])
+    return out
