@@ -31,8 +31,8 @@ from . import curved
 def grid_points(x: np.ndarray, z: np.ndarray, radius: float) -> tuple[np.ndarray, np.ndarray]:
     """Mesh-frame points (nz * nx, 2) [length] of the curvilinear grid x (nx,) (arc length) and
     z (nz,) (depth) on the outer circle of ``radius``, row by row, and their polar angles (nz * nx,)."""
-    theta, r = np.meshgrid(np.asarray(x, dtype=float) / radius, radius - np.asarray(z, dtype=float))
-    theta, r = theta.ravel(), r.ravel()
+    angles, radii = np.meshgrid(np.asarray(x, dtype=float) / radius, radius - np.asarray(z, dtype=float))
+    theta, r = angles.ravel(), radii.ravel()
     return np.stack([r * np.sin(theta), -radius + r * np.cos(theta)], axis=1), theta
 
 
@@ -62,7 +62,7 @@ def field(mesh, u, t, shear: float, poisson: float, radius: float, x, z, samples
     for where, bore in ((top, False), (bottom, True)):
         element[where], xi[where] = on_circle(mesh, theta_all[where], radius, bore)
     found = curved.stresses(mesh, u, t, shear, poisson, np.concatenate([points, surface]), located=(element, xi))
-    polar = polar_components(*found, theta_all)
+    polar = polar_components(found[0], found[1], found[2], theta_all)
     n = points.shape[0]
     shape = (np.size(z), np.size(x))
     return tuple(c[:n].reshape(shape) for c in polar), tuple(c[n:] for c in polar)
