@@ -24,10 +24,12 @@ Quadrature by distance (|z| in half-chords from the chord's mid-point):
 
 * |z| >= :data:`FAR` (most pairs): Gauss-Legendre with :data:`FAR_NODES`
   points in xi, one dense matrix product per chunk of points (relative
-  error about rho^(-2 n) for the Bernstein ellipse through z, rho >= 7.9:
-  < 2e-11);
-* :data:`NEAR` <= |z| < FAR: Gauss with :data:`MEDIUM_NODES` points
-  (rho >= 4.8: < 3e-14);
+  error about rho^(-2 n) for the Bernstein ellipse through z, rho >= 19.9:
+  < 4e-11);
+* :data:`MIDDLE` <= |z| < FAR: Gauss with :data:`MIDDLE_NODES` points
+  (rho >= 7.9: < 2e-11), pair by pair;
+* :data:`NEAR` <= |z| < MIDDLE: Gauss with :data:`MEDIUM_NODES` points
+  (rho >= 4.8: < 3e-14), pair by pair;
 * |z| < NEAR: product integration (Helsing & Ojala 2008): f along Gamma
   interpolated as a polynomial of degree NODES - 1 in tau at the Gauss
   points, whose monomials integrate exactly along the straight chord by the
@@ -58,12 +60,16 @@ from ..influence.bem.mesh import BoundaryMesh
 NODES = 12
 #: Gauss points of the medium rule.
 MEDIUM_NODES = 10
+#: Gauss points of the middle rule.
+MIDDLE_NODES = 6
 #: Gauss points of the far rule.
-FAR_NODES = 6
+FAR_NODES = 4
 #: |z| (half-chords) below which a pair is integrated by product integration.
 NEAR = 2.5
+#: |z| from which the middle rule serves.
+MIDDLE = 4.0
 #: |z| from which the far rule serves.
-FAR = 4.0
+FAR = 10.0
 #: A point within this many half-chords of an element is a boundary point.
 ON_BOUNDARY = 1e-6
 #: Complex entries per chunk of the dense far sum (bounds its temporaries to ~50 MB).
@@ -150,22 +156,54 @@ def densities(data: CurvedData, xi: np.ndarray) -> dict[str, np.ndarray]:
 def interior_stresses(data: CurvedData, points: np.ndarray) -> np.ndarray:
     """(sigma_xx, sigma_yy, sigma_xy) [stress], shape (3, P), at interior points (P, 2) [length]."""
     points = np.atleast_2d(np.asarray(points, dtype=float))
-    zeta = points[:, 0] + 1j * points[:, 1]
+    return _evaluate(data, points[:, 0] + 1j * points[:, 1], find=False)[0]
+
+
+def _evaluate(data: CurvedData, zeta: np.ndarray, find: bool = True):
+    """The interior stresses (3, P) at ``zeta`` (P,), and the boundary points' element (P,) (-1 inside)
+    and xi, found among the near pairs (within :data:`ON_BOUNDARY` half-chords) when ``find``; those
+    get no interior value (NaN). One pass over the (point, element) pairs, in chunks of points."""
     first = np.zeros(zeta.size, dtype=complex)  # 2 pi i phi'
     second = np.zeros(zeta.size, dtype=complex)  # pi i (sigma_yy - sigma_xx + 2 i sigma_xy)
+    element, xi = np.full(zeta.size, -1), np.zeros(zeta.size)
     step = max(1, CHUNK // (FAR_NODES * data.mid.size))
+    rules = {n: (gauss(n)[1], densities(data, gauss(n)[0])) for n in (FAR_NODES, MIDDLE_NODES, MEDIUM_NODES, NODES)}
     for start in range(0, zeta.size, step):  # chunks of points: the (point, element) arrays stay bounded
-        part = slice(start, start + step)
-        z = _local(data, zeta[part])
+        rows = np.arange(start, min(start + step, zeta.size))
+        z = _local(data, zeta[rows])
         size = np.abs(z)
-        one, two = first[part], second[part]  # views: the sums add into first and second
-        _far_sum(data, zeta[part], size >= FAR, one, two)
-        _gauss_pairs(data, zeta[part], np.nonzero((size >= NEAR) & (size < FAR)), one, two)
+        if find:
+            element[rows], xi[rows] = _boundary_pairs(data, z, np.nonzero(size < NEAR))
+            keep = element[rows] < 0
+            rows, z, size = rows[keep], z[keep], size[keep]
+        one, two = np.zeros(rows.size, dtype=complex), np.zeros(rows.size, dtype=complex)
+        _far_sum(rules[FAR_NODES], zeta[rows], size >= FAR, one, two)
+        _gauss_pairs(rules[MIDDLE_NODES], zeta[rows], np.nonzero((size >= MIDDLE) & (size < FAR)), one, two)
+        _gauss_pairs(rules[MEDIUM_NODES], zeta[rows], np.nonzero((size >= NEAR) & (size < MIDDLE)), one, two)
         near = np.nonzero(size < NEAR)
-        _product_pairs(data, z[near], near, one, two)
+        _product_pairs(data, rules[NODES][1], z[near], near, one, two)
+        first[rows], second[rows] = one, two
     trace = 4.0 * (first / (2j * np.pi)).real
     second = second / (1j * np.pi)
-    return np.stack([0.5 * (trace - second.real), 0.5 * (trace + second.real), 0.5 * second.imag])
+    out = np.stack([0.5 * (trace - second.real), 0.5 * (trace + second.real), 0.5 * second.imag])
+    out[:, element >= 0] = np.nan
+    return out, element, xi
+
+
+def _boundary_pairs(data: CurvedData, z: np.ndarray, near, tolerance: float = ON_BOUNDARY):
+    """Among the ``near`` (point, element) pairs of z (p, E): each point's nearest element within
+    ``tolerance`` half-chords (-1: none) and its xi there."""
+    points, elements = near
+    element, xi = np.full(z.shape[0], -1), np.zeros(z.shape[0])
+    if points.size == 0:
+        return element, xi
+    foot, bulge = _foot(data.beta[elements], z[near])
+    dist = np.where(np.abs(foot) <= 1.0 + 1e-12, np.abs(z[near].imag - bulge), np.inf)
+    on = np.flatnonzero(dist <= tolerance)
+    order = on[np.argsort(-dist[on] * np.abs(data.chord[elements[on]]))]  # the nearest last: it wins
+    element[points[order]] = elements[order]
+    xi[points[order]] = np.clip(foot[order], -1.0, 1.0)
+    return element, xi
 
 
 def _local(data: CurvedData, zeta: np.ndarray) -> np.ndarray:
@@ -173,29 +211,29 @@ def _local(data: CurvedData, zeta: np.ndarray) -> np.ndarray:
     return (zeta[:, None] - data.mid[None, :]) / data.chord[None, :]
 
 
-def _far_sum(data, zeta, mask, first, second) -> None:
-    """Add the far pairs (``mask`` (P, E)) by the FAR_NODES Gauss rule (dense: one chunk of points)."""
-    xi, w = gauss(FAR_NODES)
-    d = densities(data, xi)
-    t = d["t"].ravel()
-    wF, wH = (w * d["dt"] * d["F"]).ravel(), (w * d["dt"] * d["H"]).ravel()
-    diff = t[None, :] - zeta[:, None]  # (p, E G)
-    kernel = np.zeros_like(diff)
-    np.divide(1.0, diff, out=kernel, where=np.repeat(mask, FAR_NODES, axis=1))
-    first += kernel @ wF
+def _far_sum(rule, zeta, mask, first, second) -> None:
+    """Add the far pairs (``mask`` (p, E)) by the Gauss ``rule`` (weights, :func:`densities` at its
+    points): dense, one chunk of points, none on the boundary, so no difference vanishes."""
+    w, d = rule
+    nodes = w.size
+    weights = np.stack([(w * d["dt"] * d["F"]).ravel(), (w * d["dt"] * d["H"]).ravel()], axis=1)
+    diff = d["t"].ravel()[None, :] - zeta[:, None]  # (p, E G)
+    kernel = np.reciprocal(diff)
+    kernel.reshape(zeta.size, -1, nodes)[...] *= mask[:, :, None]
+    sums = kernel @ weights
     diff = np.conj(diff, out=diff)
     diff *= kernel
     diff *= kernel
-    second += kernel @ wH - diff @ wF
+    first += sums[:, 0]
+    second += sums[:, 1] - diff @ weights[:, 0]
 
 
-def _gauss_pairs(data, zeta, pairs, first, second) -> None:
-    """Add the (point, element) ``pairs`` by the NODES Gauss rule (vectorised over pairs)."""
+def _gauss_pairs(rule, zeta, pairs, first, second) -> None:
+    """Add the (point, element) ``pairs`` by the Gauss ``rule`` (as :func:`_far_sum`), pair by pair."""
     points, elements = pairs
     if points.size == 0:
         return
-    xi, w = gauss(MEDIUM_NODES)
-    d = densities(data, xi)
+    w, d = rule
     diff = d["t"][elements] - zeta[points, None]  # (K, G)
     kernel = 1.0 / diff
     wdt = w * d["dt"][elements]
@@ -204,13 +242,12 @@ def _gauss_pairs(data, zeta, pairs, first, second) -> None:
     second += _gather(points, term.sum(1), second.size)
 
 
-def _product_pairs(data, z, pairs, first, second) -> None:
-    """Add the near ``pairs`` (z (K,) in the chord frames) by product integration (module docstring)."""
+def _product_pairs(data, d, z, pairs, first, second) -> None:
+    """Add the near ``pairs`` (z (K,) in the chord frames) by product integration (module docstring),
+    ``d`` the :func:`densities` at the NODES Gauss points."""
     points, elements = pairs
     if points.size == 0:
         return
-    xi, _ = gauss(NODES)
-    d = densities(data, xi)
     tau = d["tau"][elements]  # (K, G) interpolation nodes along Gamma
     vander = tau[:, :, None] ** np.arange(NODES)  # (K, G, k)
     values = np.stack([d[name][elements] for name in ("F", "H", "M")], axis=-1)  # (K, G, 3)
@@ -271,17 +308,11 @@ def _monomials(z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def locate(data: CurvedData, points: np.ndarray, tolerance: float = ON_BOUNDARY) -> tuple[np.ndarray, np.ndarray]:
-    """The element each point (P, 2) lies on (-1: none) and its xi, within ``tolerance`` half-chords
-    of the element (the nearest element wins)."""
+    """The element each point (P, 2) lies on (-1: none) and its xi, within ``tolerance`` (< 1)
+    half-chords of the element (the nearest element wins)."""
     zeta = points[:, 0] + 1j * points[:, 1]
     z = _local(data, zeta)
-    xi, bulge = _foot(np.broadcast_to(data.beta, z.shape), z)
-    inside = np.abs(xi) <= 1.0 + 1e-12
-    dist = np.where(inside, np.abs(z.imag - bulge), np.inf) * np.abs(data.chord)[None, :]
-    best = np.argmin(dist, axis=1)
-    rows = np.arange(zeta.size)
-    found = dist[rows, best] <= tolerance * np.abs(data.chord[best])
-    return np.where(found, best, -1), np.where(found, np.clip(xi[rows, best], -1.0, 1.0), 0.0)
+    return _boundary_pairs(data, z, np.nonzero(np.abs(z) < NEAR), tolerance)
 
 
 def boundary_stresses(data: CurvedData, element: np.ndarray, xi: np.ndarray) -> np.ndarray:
@@ -313,14 +344,12 @@ def stresses(
     """
     points = np.atleast_2d(np.asarray(points, dtype=float))
     data = curved_data(mesh, np.asarray(u, dtype=float), np.asarray(t, dtype=float), shear, poisson)
-    element, xi = locate(data, points)
+    element, xi = np.full(points.shape[0], -1), np.zeros(points.shape[0])
     if located is not None:
-        given = np.asarray(located[0]) >= 0
-        element[given], xi[given] = np.asarray(located[0])[given], np.asarray(located[1])[given]
-    on = element >= 0
+        element, xi = np.array(located[0], dtype=int), np.array(located[1], dtype=float)
     out = np.empty((3, points.shape[0]))
-    if np.any(on):
-        out[:, on] = boundary_stresses(data, element[on], xi[on])
-    if np.any(~on):
-        out[:, ~on] = interior_stresses(data, points[~on])
+    rest = element < 0
+    out[:, rest], element[rest], xi[rest] = _evaluate(data, points[rest, 0] + 1j * points[rest, 1])
+    on = element >= 0
+    out[:, on] = boundary_stresses(data, element[on], xi[on])
     return out
