@@ -41,8 +41,10 @@ Quadrature by distance (|z| in half-chords from the chord's mid-point):
   element (the recursion's growth |z|^NODES < 6e4 stays far below 1/eps).
 
 Boundary points (within :data:`ON_BOUNDARY` half-chords of an element, on
-either side: a point of the true circle is within (h/R)^3 h of its quadratic
-element) get the stress recovered from the traction and the tangential strain
+either side, or placed on their element by the caller: a point of the true
+circle lies about R (h/2R)^4 off its quadratic element, 1e-4 h on an arc of
+1/32 of the circle, so :mod:`.cylinder` places its surface and bore points
+itself) get the stress recovered from the traction and the tangential strain
 (:func:`boundary_stresses`), as :mod:`.bem`. Straight elements are the case
 beta = 0, so the module also serves straight meshes (the tests compare them).
 """
