@@ -240,8 +240,7 @@ def test_a_finite_cylinder_through_the_pipeline(tmp_path):
     # for consistent data; the BEM's u meets its integral equation at the collocation nodes only, so
     # what is left is its discretisation of the surface strain, largest at the traction's square-root
     # kinks (contact edges: 2 % p0; stick/slip boundaries: 0.9 %), measured 3e-4 (sigma_zz) and 1.1e-3
-    # (tau_xz) p0 at the contact
-    # nodes more than two elements from every kink. Bound 5e-3 p0 on those.
+    # (tau_xz) p0 at the contact nodes more than two elements from every kink. Bound 5e-3 p0 on those.
     case = load_case(_finite_case())
     the_plan = pipeline.plan(case, half_width=result.mesh_half_width)
     mesh, u, t = build.boundary_solution(case, the_plan, "A", result.p_n, result.p_t)
