@@ -14,8 +14,10 @@ Models: the closed-form half-plane (:mod:`.halfplane`) where the case's
 influence model resolves to "half-plane", the BEM body's Somigliana identity
 (:mod:`.bem`) on the full boundary solution of the influence model's own BEM
 body (:func:`rolling_cli.influence.build.boundary_solution`: the half-space
-block with its far field, or the layer) where it resolves to "bem"; rigid
-bodies have no field. The grid: nx points over the potential contact zone plus a
+block with its far field, or the layer) where it resolves to "bem"; a finite
+cylinder's annulus on its curved elements (:mod:`.curved`), on its own
+curvilinear grid (x the arc length, z the radial depth, down to the bore at
+most: :mod:`.cylinder`); rigid bodies have no field. The grid: nx points over the potential contact zone plus a
 margin of :data:`MARGIN` of its half-width on each side (inside a layer's top
 face), nz depths from the surface to ``depth`` a (a layer: to its bond line at
 most, which is then the last row).
