@@ -7,7 +7,7 @@ half-plane (R/a = 1000), the applied tractions and the equilibrium of the bore, 
 
 import numpy as np
 import pytest
-from test_stresses_bem import boundary_data, linear_state, node_normals
+from test_stresses_bem import boundary_data, kelvin_state, linear_state, node_normals
 
 from helpers import case_dict, solve
 from rolling_cli import pipeline, read_result, write_result
@@ -20,7 +20,7 @@ from rolling_cli.influence.bem.mesh import BoundaryMesh, rectangle
 from rolling_cli.model.grid import ContactGrid
 from rolling_cli.references import hertz
 from rolling_cli.references.annulus_field import amplitudes, annulus_field
-from rolling_cli.stresses import compute, curved, cylinder, halfplane
+from rolling_cli.stresses import bem, compute, curved, cylinder, halfplane
 
 G, NU = 80.0, 0.3
 
@@ -39,6 +39,74 @@ def test_straight_elements_reproduce_the_patch_test_to_round_off():
     u, t = boundary_data(mesh, linear_state)
     expected = linear_state(points)[0]
     assert curved.stresses(mesh, u, t, G, NU, points) == pytest.approx(expected, abs=1e-9 * np.abs(expected).max())
+
+
+def test_straight_elements_match_the_closed_form_identity_near_the_boundary():
+    """Kelvin's point force outside a straight-sided mesh: the curved integration (beta = 0: product
+    integration near, Gauss far) against :mod:`rolling_cli.stresses.bem`'s closed form for the same
+    interpolated data, from 1e-2 down to 1e-9 element lengths (the latter boundary points in both).
+    Bound: the far rules' 4e-11 plus the closed form's own rounding near element ends (~1e-12): 1e-10
+    of the scale (measured 1.3e-11)."""
+    mesh = rectangle(3.0, 2.0, np.linspace(-1.0, 1.0, 11), largest=0.5, kind="mixed")
+    u, t = boundary_data(mesh, kelvin_state(np.array([0.3, 0.5]), np.array([1.0, -0.4])))
+    x = np.array([0.05, 0.1, 0.13, 0.199, 0.7, -2.2])
+    points = np.concatenate([np.column_stack([x, np.full_like(x, -d * 0.2)]) for d in (1e-2, 1e-4, 1e-7, 1e-9)])
+    expected = bem.stresses(mesh, u, t, G, NU, points)
+    found = curved.stresses(mesh, u, t, G, NU, points)
+    assert np.abs(found - expected).max() <= 1e-10 * np.abs(expected).max()
+
+
+def _brute_force(data, zeta):
+    """The identity at one interior point by composite 16-point Gauss on every element, panels halving
+    towards the point's foot (down to 1e-9 of the element): a reference for the near integration."""
+    x16, w16 = np.polynomial.legendre.leggauss(16)
+    kappa = 3.0 - 4.0 * data.poisson
+    first = second = 0j
+    for e in range(data.mid.size):
+        foot = float(
+            np.clip(
+                curved._foot(data.beta[e : e + 1], (zeta - data.mid[e : e + 1]) / data.chord[e : e + 1])[0][0], -1, 1
+            )
+        )
+        cuts = [foot] + [foot + side * abs(side - foot) * 0.5**k for side in (-1.0, 1.0) for k in range(31)]
+        edges = np.unique(np.clip(cuts, -1.0, 1.0))
+        a, b = edges[:-1, None], edges[1:, None]
+        xi, w = (0.5 * (a + b) + 0.5 * (b - a) * x16).ravel(), (0.5 * (b - a) * w16).ravel()
+        point, dpoint, _, ddisp, traction = data.at(xi, np.full(xi.size, e))
+        jac = np.abs(dpoint)
+        g = (2.0 * data.shear * ddisp / jac + 1j * traction) / (1.0 + kappa)
+        F, H = g * np.conj(dpoint) / jac, (-1j * np.conj(traction) - np.conj(g)) * np.conj(dpoint) / jac
+        diff = point - zeta
+        first += np.sum(w * dpoint * F / diff)
+        second += np.sum(w * dpoint * (H / diff - np.conj(diff) * F / diff**2))
+    trace, second = 4.0 * (first / (2j * np.pi)).real, second / (1j * np.pi)
+    return np.array([0.5 * (trace - second.real), 0.5 * (trace + second.real), 0.5 * second.imag])
+
+
+def test_near_integration_on_curved_elements_and_in_the_lens():
+    """Coarse curved elements (16 per circle, 22.5 degrees: the sagitta 5 % of an element) and points
+    0.3 down to 1e-7 element lengths inside them, many between an outer element's chord and its arc
+    (the lens, where the residue enters), against brute-force quadrature of the same data. Bound 1e-6
+    of the scale: the degree-11 interpolation of the densities along such bulging elements (measured
+    5e-9; 3e-7 at 1e-3 of an element from its end, where two elements are near-singular at once)."""
+    radius, inner = 1.0, 0.6
+    n = np.arange(9)
+    state = _michell_state(np.exp(0.3j * n) / (1.0 + n) ** 2, 0.5 * np.exp(-0.7j * n) / (1.0 + n) ** 2, radius, inner)
+    mesh = _uniform_annulus(radius, inner, 16)
+    sigma, u = state(mesh.nodes)
+    normals = node_normals(mesh)
+    t = np.stack(
+        [sigma[0] * normals[:, 0] + sigma[2] * normals[:, 1], sigma[2] * normals[:, 0] + sigma[1] * normals[:, 1]], 1
+    )
+    h = 2.0 * np.pi * radius / 16
+    on, normal, _ = map_points(mesh.geometry[[0, 5, 20]], np.array([0.0, 0.37, -0.9, 0.999]))  # outer, outer, bore
+    points = np.concatenate([(on - d * h * normal).reshape(-1, 2) for d in (0.3, 1e-2, 1e-4, 1e-7)])
+    data = curved.curved_data(mesh, u, t, G, NU)
+    z = (points[:, 0] + 1j * points[:, 1] - data.mid[0]) / data.chord[0]
+    assert np.sum(curved._lens(np.full(z.size, data.beta[0]), z)[0]) >= 4  # the lens is exercised
+    found = curved.stresses(mesh, u, t, G, NU, points)
+    expected = np.stack([_brute_force(data, p[0] + 1j * p[1]) for p in points], axis=1)
+    assert np.abs(found - expected).max() <= 1e-6 * np.abs(expected).max()
 
 
 def _uniform_annulus(radius, inner, n):

@@ -72,8 +72,8 @@ NEAR = 2.5
 MIDDLE = 4.0
 #: |z| from which the far rule serves.
 FAR = 10.0
-#: A point within this many half-chords of an element is a boundary point.
-ON_BOUNDARY = 1e-6
+#: A point within this many half-chords of an element is a boundary point (1e-9 element lengths, as :mod:`.bem`).
+ON_BOUNDARY = 2e-9
 #: Complex entries per chunk of the dense far sum (bounds its temporaries to ~50 MB).
 CHUNK = 1_000_000
 
@@ -178,6 +178,8 @@ def _evaluate(data: CurvedData, zeta: np.ndarray, find: bool = True):
             element[rows], xi[rows] = _boundary_pairs(data, z, np.nonzero(size < NEAR))
             keep = element[rows] < 0
             rows, z, size = rows[keep], z[keep], size[keep]
+            if rows.size == 0:
+                continue
         one, two = np.zeros(rows.size, dtype=complex), np.zeros(rows.size, dtype=complex)
         _far_sum(rules[FAR_NODES], zeta[rows], size >= FAR, one, two)
         _gauss_pairs(rules[MIDDLE_NODES], zeta[rows], np.nonzero((size >= MIDDLE) & (size < FAR)), one, two)
