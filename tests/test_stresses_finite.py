@@ -206,6 +206,30 @@ def test_identity_on_curved_elements_converges_to_michell():
     assert errors[0] / errors[1] > 3.0 and errors[1] / errors[2] > 3.0
 
 
+def test_mirror_pairs_share_the_far_kernel_exactly():
+    """On a mesh that is its own mirror image, points given with their mirrors take their far sums from
+    one kernel (the mirror point's differences are -conj of the point's to the mirror nodes): the same
+    stresses as the plain evaluation to round-off (1e-12 of the scale), near-boundary points included."""
+    radius, inner = 1.0, 0.6
+    n = np.arange(9)
+    state = _michell_state(np.exp(0.3j * n) / (1.0 + n) ** 2, 0.5 * np.exp(-0.7j * n) / (1.0 + n) ** 2, radius, inner)
+    mesh = _uniform_annulus(radius, inner, 16)
+    sigma, u = state(mesh.nodes)
+    normals = node_normals(mesh)
+    t = np.stack(
+        [sigma[0] * normals[:, 0] + sigma[2] * normals[:, 1], sigma[2] * normals[:, 0] + sigma[1] * normals[:, 1]], 1
+    )
+    rng = np.random.default_rng(2)
+    r, theta = inner + (radius - inner) * rng.random(60), np.pi * rng.random(60)
+    r[:10] = radius - 1e-4  # near the outer circle (inside the lens)
+    half = np.column_stack([r * np.sin(theta), -radius + r * np.cos(theta)])
+    points = np.concatenate([half, half * [-1.0, 1.0], [[0.0, -0.2]]])
+    data = curved.curved_data(mesh, u, t, G, NU)
+    assert curved.mirror_partner(data) is not None and curved._mirror_pairs(points)[0].size == 60
+    expected = curved.interior_stresses(data, points)
+    assert np.abs(curved.stresses(mesh, u, t, G, NU, points) - expected).max() <= 1e-12 * np.abs(expected).max()
+
+
 def _bump(s, a):
     """The C1 load of tests/test_cylinder_bem.py: its quadratic interpolation is within (h/a)^3 of it."""
     return np.where(np.abs(s) < a, (1.0 - (s / a) ** 2) ** 2, 0.0)

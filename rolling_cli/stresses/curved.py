@@ -40,6 +40,13 @@ Quadrature by distance (|z| in half-chords from the chord's mid-point):
   to the interpolation of smooth functions of xi at any distance from the
   element (the recursion's growth |z|^NODES < 6e4 stays far below 1/eps).
 
+Mirror pairs: on a mesh that is its own mirror image in x = 0 (a finite
+cylinder's), a point and its mirror -conj(zeta) among the requested points
+share the far rule's kernel: the mirror's difference to node q of the mirror
+element is -conj of the point's to node n - 1 - q of the element, so its sums
+are -conj of the kernel times the conjugated, permuted weights (more columns
+of one matrix product: a symmetric field costs ~0.7 of two evaluations).
+
 Boundary points (within :data:`ON_BOUNDARY` half-chords of an element, on
 either side, or placed on their element by the caller: a point of the true
 circle lies about R (h/2R)^4 off its quadratic element, 1e-4 h on an arc of
@@ -161,37 +168,51 @@ def interior_stresses(data: CurvedData, points: np.ndarray) -> np.ndarray:
     return _evaluate(data, points[:, 0] + 1j * points[:, 1], find=False)[0]
 
 
-def _evaluate(data: CurvedData, zeta: np.ndarray, find: bool = True):
+def _evaluate(data: CurvedData, zeta: np.ndarray, find: bool = True, partner: np.ndarray | None = None):
     """The interior stresses (3, P) at ``zeta`` (P,), and the boundary points' element (P,) (-1 inside)
     and xi, found among the near pairs (within :data:`ON_BOUNDARY` half-chords) when ``find``; those
-    get no interior value (NaN). One pass over the (point, element) pairs, in chunks of points."""
-    first = np.zeros(zeta.size, dtype=complex)  # 2 pi i phi'
-    second = np.zeros(zeta.size, dtype=complex)  # pi i (sigma_yy - sigma_xx + 2 i sigma_xy)
+    get no interior value (NaN). One pass over the (point, element) pairs, in chunks of points.
+
+    With the mirror ``partner`` of every element (:func:`mirror_partner`), also the stresses (3, P)
+    at the mirror points -conj(zeta), whose far sums come from the same kernel (module docstring);
+    a point is then a boundary point when it or its mirror is."""
+    mirrored = partner is not None
+    sums = np.zeros((2 if mirrored else 1, 2, zeta.size), dtype=complex)  # [point set, 2 pi i phi' | pi i (...)]
     element, xi = np.full(zeta.size, -1), np.zeros(zeta.size)
-    step = max(1, CHUNK // (FAR_NODES * data.mid.size))
+    step = max(1, CHUNK // ((2 if mirrored else 1) * FAR_NODES * data.mid.size))
     rules = {n: (gauss(n)[1], densities(data, gauss(n)[0])) for n in (FAR_NODES, MIDDLE_NODES, MEDIUM_NODES, NODES)}
     for start in range(0, zeta.size, step):  # chunks of points: the (point, element) arrays stay bounded
         rows = np.arange(start, min(start + step, zeta.size))
         z = _local(data, zeta[rows])
-        size = np.abs(z)
+        sets = [(zeta[rows], z)]
+        if partner is not None:
+            z_mirror = np.empty_like(z)
+            z_mirror[:, partner] = -np.conj(z)  # the mirror point seen from the mirror element
+            sets.append((-np.conj(zeta[rows]), z_mirror))
         if find:
-            element[rows], xi[rows] = _boundary_pairs(data, z, np.nonzero(size < NEAR))
+            for _, local in sets:
+                found, at = _boundary_pairs(data, local, np.nonzero(np.abs(local) < NEAR))
+                new = (found >= 0) & (element[rows] < 0)
+                element[rows[new]], xi[rows[new]] = found[new], at[new]
             keep = element[rows] < 0
-            rows, z, size = rows[keep], z[keep], size[keep]
+            rows, sets = rows[keep], [(points[keep], local[keep]) for points, local in sets]
             if rows.size == 0:
                 continue
-        one, two = np.zeros(rows.size, dtype=complex), np.zeros(rows.size, dtype=complex)
-        _far_sum(rules[FAR_NODES], zeta[rows], size >= FAR, one, two)
-        _gauss_pairs(rules[MIDDLE_NODES], zeta[rows], np.nonzero((size >= MIDDLE) & (size < FAR)), one, two)
-        _gauss_pairs(rules[MEDIUM_NODES], zeta[rows], np.nonzero((size >= NEAR) & (size < MIDDLE)), one, two)
-        near = np.nonzero(size < NEAR)
-        _product_pairs(data, rules[NODES][1], z[near], near, one, two)
-        first[rows], second[rows] = one, two
-    trace = 4.0 * (first / (2j * np.pi)).real
-    second = second / (1j * np.pi)
-    out = np.stack([0.5 * (trace - second.real), 0.5 * (trace + second.real), 0.5 * second.imag])
-    out[:, element >= 0] = np.nan
-    return out, element, xi
+        far = np.abs(sets[0][1]) >= FAR
+        parts = _far_sum(rules[FAR_NODES], sets[0][0], far, partner)  # (sets, 2, p)
+        for k, (points, local) in enumerate(sets):
+            one, two = parts[k]
+            size = np.abs(local)
+            _gauss_pairs(rules[MIDDLE_NODES], points, np.nonzero((size >= MIDDLE) & (size < FAR)), one, two)
+            _gauss_pairs(rules[MEDIUM_NODES], points, np.nonzero((size >= NEAR) & (size < MIDDLE)), one, two)
+            near = np.nonzero(size < NEAR)
+            _product_pairs(data, rules[NODES][1], local[near], near, one, two)
+            sums[k][:, rows] = parts[k]
+    trace = 4.0 * (sums[:, 0] / (2j * np.pi)).real
+    second = sums[:, 1] / (1j * np.pi)
+    out = np.stack([0.5 * (trace - second.real), 0.5 * (trace + second.real), 0.5 * second.imag], axis=1)
+    out[..., element >= 0] = np.nan
+    return (out if mirrored else out[0]), element, xi
 
 
 def _boundary_pairs(data: CurvedData, z: np.ndarray, near, tolerance: float = ON_BOUNDARY):
@@ -215,21 +236,48 @@ def _local(data: CurvedData, zeta: np.ndarray) -> np.ndarray:
     return (zeta[:, None] - data.mid[None, :]) / data.chord[None, :]
 
 
-def _far_sum(rule, zeta, mask, first, second) -> None:
-    """Add the far pairs (``mask`` (p, E)) by the Gauss ``rule`` (weights, :func:`densities` at its
-    points): dense, one chunk of points, none on the boundary, so no difference vanishes."""
+def _far_sum(rule, zeta, mask, partner=None) -> np.ndarray:
+    """The far pairs' (``mask`` (p, E)) sums (2 pi i phi', pi i (...)) by the Gauss ``rule``
+    (weights, :func:`densities` at its points), shape (1, 2, p): dense, one chunk of points, none on
+    the boundary, so no difference vanishes. With the elements' mirror ``partner`` also those of the
+    mirror points -conj(zeta) (shape (2, 2, p)): the mirror point's difference to node q of element
+    partner[e] is -conj of the point's to node n - 1 - q of e, so its sums are -conj of the kernel's
+    products with the conjugated, permuted weights (more columns, the same kernel)."""
     w, d = rule
     nodes = w.size
     weights = np.stack([(w * d["dt"] * d["F"]).ravel(), (w * d["dt"] * d["H"]).ravel()], axis=1)
+    if partner is not None:
+        permuted = weights.reshape(-1, nodes, 2)[partner, ::-1].reshape(-1, 2)
+        weights = np.concatenate([weights, np.conj(permuted)], axis=1)
     diff = d["t"].ravel()[None, :] - zeta[:, None]  # (p, E G)
     kernel = np.reciprocal(diff)
     kernel.reshape(zeta.size, -1, nodes)[...] *= mask[:, :, None]
-    sums = kernel @ weights
+    direct = kernel @ weights
     diff = np.conj(diff, out=diff)
     diff *= kernel
     diff *= kernel
-    first += sums[:, 0]
-    second += sums[:, 1] - diff @ weights[:, 0]
+    double = diff @ weights[:, 0::2]  # the F columns
+    out = [np.stack([direct[:, 0], direct[:, 1] - double[:, 0]])]
+    if partner is not None:
+        out.append(np.stack([-np.conj(direct[:, 2]), -np.conj(direct[:, 3]) + np.conj(double[:, 1])]))
+    return np.array(out)
+
+
+def mirror_partner(data: CurvedData) -> np.ndarray | None:
+    """(E,) each element's mirror image in x = 0, traversed the other way (its chord's mid-point at
+    -conj(mid), half-chord conj(chord), bulge -conj(beta)), or None when the mesh has none."""
+    scale = float(np.abs(data.mid).max() + np.abs(data.chord).max())
+    key = np.round(np.stack([data.mid.real, data.mid.imag], axis=1) / (1e-9 * scale)).astype(np.int64)
+    wanted = np.round(np.stack([-data.mid.real, data.mid.imag], axis=1) / (1e-9 * scale)).astype(np.int64)
+    order, back = np.lexsort(key.T[::-1]), np.lexsort(wanted.T[::-1])
+    if not np.array_equal(key[order], wanted[back]):
+        return None
+    partner = np.empty(data.mid.size, dtype=np.int64)
+    partner[back] = order
+    close = np.allclose(data.chord[partner], np.conj(data.chord), rtol=0.0, atol=1e-9 * scale)
+    if not (close and np.allclose(data.beta[partner], -np.conj(data.beta), rtol=0.0, atol=1e-9)):
+        return None
+    return partner
 
 
 def _gauss_pairs(rule, zeta, pairs, first, second) -> None:
@@ -352,8 +400,33 @@ def stresses(
     if located is not None:
         element, xi = np.array(located[0], dtype=int), np.array(located[1], dtype=float)
     out = np.empty((3, points.shape[0]))
-    rest = element < 0
+    rest = np.flatnonzero(element < 0)
+    partner = mirror_partner(data) if rest.size > 1 else None
+    half, mirror = _mirror_pairs(points[rest]) if partner is not None else (np.empty(0, int), np.empty(0, int))
+    if half.size:  # the mirror pairs share their far sums' kernel (:func:`_far_sum`)
+        h, m = rest[half], rest[mirror]
+        both, element[h], xi[h] = _evaluate(data, points[h, 0] + 1j * points[h, 1], partner=partner)
+        out[:, h], out[:, m] = both[0], both[1]
+        found = element[h] >= 0  # on the boundary, or its mirror is: both evaluated alone below
+        element[m[found]] = -1
+        rest = np.setdiff1d(rest, np.concatenate([h[~found], m[~found]]))
+        element[h[found]] = -1
     out[:, rest], element[rest], xi[rest] = _evaluate(data, points[rest, 0] + 1j * points[rest, 1])
     on = element >= 0
     out[:, on] = boundary_stresses(data, element[on], xi[on])
     return out
+
+
+def _mirror_pairs(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Indices (i, j) of the points with x > 0 whose mirror image in x = 0 is also a point, within
+    1e-12 of the points' extent (binned; a pair that rounding puts in two bins stays unpaired)."""
+    scale = 1e-12 * float(np.abs(points).max())
+    key = np.round(points / scale).astype(np.int64)
+    code = key[:, 0] * (2 * int(np.abs(key[:, 1]).max()) + 3) + key[:, 1]  # one integer per bin
+    mirror_code = -key[:, 0] * (2 * int(np.abs(key[:, 1]).max()) + 3) + key[:, 1]
+    order = np.argsort(code)
+    found = np.clip(np.searchsorted(code[order], mirror_code), 0, code.size - 1)
+    j = order[found]
+    pair = (code[j] == mirror_code) & (key[:, 0] > 0)
+    i = np.flatnonzero(pair)
+    return i, j[i]
