@@ -45,7 +45,8 @@ cylinder's), a point and its mirror -conj(zeta) among the requested points
 share the far rule's kernel: the mirror's difference to node q of the mirror
 element is -conj of the point's to node n - 1 - q of the element, so its sums
 are -conj of the kernel times the conjugated, permuted weights (more columns
-of one matrix product: a symmetric field costs ~0.7 of two evaluations).
+of one matrix product: a symmetric field costs 0.7-0.85 of the plain
+evaluation).
 
 Boundary points (within :data:`ON_BOUNDARY` half-chords of an element, on
 either side, or placed on their element by the caller: a point of the true
