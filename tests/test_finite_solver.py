@@ -151,12 +151,11 @@ def test_bad_shapes_are_one_line_errors(tmp_path, body_a, body_b, key, why):
 @pytest.mark.parametrize(
     ("dotted", "why"),
     [
-        ({"stresses": {"depth": 2.0}}, "stresses: the subsurface stresses of a finite cylinder"),
         ({"normal.load": 1e4}, "reaches half the circumference"),
     ],
 )
 def test_unsupported_finite_cases_are_one_line_errors(tmp_path, dotted, why):
-    """Stresses of a finite body (not implemented) and a contact zone beyond the mesh's reach."""
+    """A contact zone beyond the mesh's reach (the stresses of finite bodies: tests/test_stresses_finite.py)."""
     extra = dotted.pop("stresses", None)
     data = _case(_cylinder(5.0, 2.0, young=10.0), RIGID_FLAT, 1.0, 20, **dotted)
     if extra is not None:

@@ -351,7 +351,7 @@ class Stresses:
 
     depth: float = spec(
         3.0,
-        doc="field depth below each surface / a (a layer: down to its bond line at most)",
+        doc="field depth below each surface / a (a layer or a finite cylinder: down to its bond line at most)",
         kind="float",
         gt=0.0,
         le=100.0,

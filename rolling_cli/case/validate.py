@@ -408,13 +408,6 @@ def _check_shapes(case: schema.Case, file: str | None) -> None:
                 f"against the finite cylinder bodies.{label} (radius {body.radius:g})",
                 f'kind = "rigid", or shape = "cylinder" with radius = {body.radius:g}',
             )
-    if (a.finite or b.finite) and case.stresses is not None:
-        raise CaseError(
-            'stresses: the subsurface stresses of a finite cylinder (shape = "cylinder") are not implemented; '
-            "allowed: no [stresses] table with a finite cylinder",
-            file=file,
-            key="stresses",
-        )
     if (a.finite or b.finite) and case.discretization.influence == "half-plane":
         raise _fail(
             file,

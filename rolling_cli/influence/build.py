@@ -184,6 +184,7 @@ def clear_memo() -> None:
 
     viscoelastic.clear_memo()
     _prepared.cache_clear()
+    _prepared_annulus.cache_clear()
 
 
 def _mesh(inputs: dict) -> tuple[bem.BoundaryMesh, ContactGrid]:
@@ -233,19 +234,36 @@ def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarr
     ``mesh.nodes`` (N, 2) [length], displacements u (N, 2) [length] and
     tractions t (N, 2) [stress] on every boundary node, far-field conditions
     included. The factorised body is memoised (the last two bodies). Raises
-    ValueError for a rigid body or a half-plane case (no boundary mesh).
+    ValueError for a rigid body or a half-plane case (no boundary mesh). A finite
+    cylinder's is its annulus (:mod:`.bem.annulus_solution`: the frame of
+    :mod:`.bem.cylinder`, centre at (0, -R), the contact nodes' tractions along
+    their arc), its p_n and p_t along each node's own normal and tangent.
 
     For a result ``r`` of ``case``: ``the_plan = pipeline.plan(case,
     half_width=r.mesh_half_width)``.
     """
     body = getattr(case.bodies, label)
-    if the_plan.effects.influence != "bem" or body.rigid or body.finite:
-        raise ValueError(f"body {label} has no BEM block mesh (rigid body, half-plane model or finite cylinder)")
+    if the_plan.effects.influence != "bem" or body.rigid:
+        raise ValueError(f"body {label} has no BEM mesh (rigid body or half-plane model)")
     from . import bem
 
     inputs = bem_inputs(case, the_plan, body)
     sign = 1.0 if label == "A" else -1.0
+    if body.finite:  # the annulus, its tractions along its arc (the nodes' own directions)
+        from .bem.annulus_solution import annulus_solution
+
+        prepared = _prepared_annulus(tuple(sorted(inputs.items())))
+        return annulus_solution(prepared, inputs["radius"], p_n, sign * np.asarray(p_t))
     return bem.boundary_solution(_prepared(tuple(sorted(inputs.items()))), p_n, sign * np.asarray(p_t))
+
+
+@functools.lru_cache(maxsize=2)
+def _prepared_annulus(frozen: tuple) -> bem.Condensed:
+    from .bem.annulus_solution import prepare_annulus
+
+    inputs = dict(frozen)
+    grid = contact_grid(inputs)
+    return prepare_annulus(grid, inputs["radius"], inputs["inner_radius"], inputs["young"], inputs["poisson"])
 
 
 @functools.lru_cache(maxsize=8)

@@ -14,6 +14,10 @@ otherwise), from the converged surface tractions of the same discretisation:
   solution (mesh, u, t) by the Somigliana identity, integrated in closed form
   (the solution itself: :func:`rolling_cli.influence.build.boundary_solution`,
   the influence model's own half-space block or layer);
+* :mod:`.curved`: the same identity on curved quadratic elements (Gauss
+  quadrature by distance, product integration near the boundary), and
+  :mod:`.cylinder`: a finite cylinder's field on its curvilinear grid (arc
+  length, radial depth) from its annulus' boundary solution, and its bore;
 * :mod:`.invariants`: sigma_yy, principal stresses, von Mises, Tresca, the
   orthogonal shear range;
 * :mod:`.compute`: the fields of the requested bodies on their (x, z) grids;

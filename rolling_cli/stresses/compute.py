@@ -14,8 +14,10 @@ Models: the closed-form half-plane (:mod:`.halfplane`) where the case's
 influence model resolves to "half-plane", the BEM body's Somigliana identity
 (:mod:`.bem`) on the full boundary solution of the influence model's own BEM
 body (:func:`rolling_cli.influence.build.boundary_solution`: the half-space
-block with its far field, or the layer) where it resolves to "bem"; rigid
-bodies have no field. The grid: nx points over the potential contact zone plus a
+block with its far field, or the layer) where it resolves to "bem"; a finite
+cylinder's annulus on its curved elements (:mod:`.curved`), on its own
+curvilinear grid (x the arc length, z the radial depth, down to the bore at
+most: :mod:`.cylinder`); rigid bodies have no field. The grid: nx points over the potential contact zone plus a
 margin of :data:`MARGIN` of its half-width on each side (inside a layer's top
 face), nz depths from the surface to ``depth`` a (a layer: to its bond line at
 most, which is then the last row).
@@ -66,10 +68,12 @@ class BodyStresses:
 
 
 def model_name(case, label: str) -> str:
-    """The stress model of body ``label``: "half-plane", "BEM block", "BEM layer" or "rigid"."""
+    """The stress model of body ``label``: "half-plane", "BEM block", "BEM layer", "BEM cylinder" or "rigid"."""
     body = getattr(case.bodies, label)
     if body.rigid:
         return "rigid"
+    if body.finite:
+        return "BEM cylinder"
     if influence_model(case)[0] == "half-plane":
         return "half-plane"
     return "BEM layer" if body.kind == "layered" else "BEM block"
@@ -83,6 +87,8 @@ def field_grid(case, the_plan, label: str) -> tuple[np.ndarray, np.ndarray]:
     body = getattr(case.bodies, label)
     reach = (1.0 + MARGIN) * grid.half_width
     depth = request.depth * the_plan.half_width
+    if body.finite:  # arc length and radial depth (:mod:`.cylinder`), down to the bore at most
+        return grid.centre + np.linspace(-reach, reach, nx), np.linspace(0.0, min(depth, body.body_shape.thickness), nz)
     if body.kind == "layered":
         thickness = float(body.layer_thickness)
         reach = min(reach, grid.half_width + LAYER_MARGIN * case.discretization.layer_length * thickness)
@@ -119,7 +125,9 @@ def compute_stresses(case, the_plan, p_n: np.ndarray, p_t: np.ndarray, kinks=Non
         arrays, (sxx, szz, txz) = components[label]
         arrays.update(derived(sxx, szz, txz, float(body.poisson)))
         attributes = {"body": label, "model": model_name(case, label), "poisson": float(body.poisson)}
-        if body.kind == "layered":
+        if body.finite:  # the bore, bonded to the shaft or the core
+            attributes["bond_depth"] = float(body.body_shape.thickness)
+        elif body.kind == "layered":
             attributes["bond_depth"] = float(body.layer_thickness)
         out[label] = BodyStresses(label, arrays, attributes)
     return out
@@ -177,6 +185,9 @@ def _bem(case, the_plan, p_n, p_t, labels, samples) -> dict:
         mesh, u, t = solutions[label]
         shear, nu = materials.shear_modulus(float(body.young), float(body.poisson)), float(body.poisson)
         x, z = field_grid(case, the_plan, label)
+        if body.finite:
+            out[label] = _cylinder(body, mesh, u, t, shear, nu, x, z, samples)
+            continue
         X, Z = np.meshgrid(x, z)
         points = np.concatenate([np.stack([X.ravel(), -Z.ravel()], axis=1), np.stack([samples, 0.0 * samples], axis=1)])
         s = bem.stresses(mesh, u, t, shear, nu, points)  # the field, then the surface samples
@@ -187,6 +198,16 @@ def _bem(case, the_plan, p_n, p_t, labels, samples) -> dict:
         sxx, syy, sxy = (component.reshape(X.shape) for component in field)
         out[label] = (arrays, (sxx, syy, -sxy))  # the mesh frame has y = -z
     return out
+
+
+def _cylinder(body, mesh, u, t, shear, nu, x, z, samples) -> tuple:
+    """A finite cylinder's arrays and (sigma_xx, sigma_zz, tau_xz) on its curvilinear grid (:mod:`.cylinder`)."""
+    from . import cylinder
+
+    shape = body.body_shape
+    components, on_surface = cylinder.field(mesh, u, t, shear, nu, shape.radius, x, z, samples, shape.thickness)
+    arrays = {"x": x, "z": z, **_surface_arrays(samples, *on_surface), **cylinder.bond_line(mesh, t, shape.radius)}
+    return arrays, components
 
 
 def derived(sigma_xx, sigma_zz, tau_xz, poisson: float) -> dict[str, np.ndarray]:
