@@ -204,3 +204,18 @@ def test_flat_layer_limit(poisson, load, elements, b_over_a):
     assert abs(finite.creep / flat.creep - 1.0) <= 5e-3
     assert abs(finite.p_n.min() / flat.p_n.min() - 1.0) <= 5e-3
     assert abs(_edges_width(finite) / width - 1.0) <= 5e-3
+
+
+def test_the_accuracy_line_says_the_estimate_covers_the_contact_only():
+    """Issue 21 item 5: "adaptive tolerance (the estimate covers the body mesh or says it does not)".
+    The estimate reads the contact tractions' kinks; a finite body's mesh away from the contact is
+    fixed, so the result and the summary say that the estimate is of the contact discretisation only
+    (a half-space body, whose far field is closed-form, does not carry the phrase)."""
+    from rolling_cli.adapt.levels import FINITE_BODY_SCOPE
+    from rolling_cli.report.summary import summary
+
+    finite = solve(_case(_cylinder(10.0, 5.0), RIGID_FLAT, 500.0, 20, **{"discretization.tolerance": 5e-2}))
+    assert str(finite.attributes["adaptive_method"]).endswith(FINITE_BODY_SCOPE)
+    assert "contact discretisation only" in summary(finite)
+    half = solve(_case(_half_space(_cylinder(10.0, 5.0)), RIGID_FLAT, 500.0, 20, **{"discretization.tolerance": 5e-2}))
+    assert "accuracy       tolerance" in summary(half) and "contact discretisation only" not in summary(half)

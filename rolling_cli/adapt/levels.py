@@ -70,6 +70,11 @@ MAX_BEM_ELEMENTS = 1280
 
 GRADED = "graded towards the kinks"
 
+#: What an estimate on a finite cylinder leaves out (appended to ``adaptive_method``): it reads the
+#: contact tractions' kinks only, while the body's own mesh away from the contact (graded by distance,
+#: :mod:`rolling_cli.influence.bem.cylinder`) is fixed; its error is measured separately (README).
+FINITE_BODY_SCOPE = "; contact discretisation only (the finite body's mesh away from the contact is not estimated)"
+
 
 @dataclass
 class Adaptation:
@@ -228,8 +233,9 @@ def summary_line(attrs: Mapping[str, Any]) -> str | None:
         status = "NOT certified"  # the estimate stalled (stall_note)
     # files written before the BEM took graded grids may say "uniform refinement"
     method = "graded" if str(attrs.get("adaptive_method", "")).startswith("graded") else "uniform refinement"
+    scope = "; contact discretisation only" if str(attrs.get("adaptive_method", "")).endswith(FINITE_BODY_SCOPE) else ""
     return (
         f"  accuracy       tolerance {attrs['adaptive_tolerance']:g} {status}: estimate "
         f"{attrs['adaptive_estimate']:.3g} (of mu p0; p0 when frictionless), {attrs.get('contact_elements')} "
-        f"elements after {attrs.get('adaptive_refinements')} refinements ({method})"
+        f"elements after {attrs.get('adaptive_refinements')} refinements ({method}{scope})"
     )
