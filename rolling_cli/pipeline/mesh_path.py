@@ -384,8 +384,9 @@ class MeshPath:
         if that fails too, the level is returned failed (the adaptive loop stops before it)."""
         level = self.levels[number]
         system = self._system(level)
-        if start is None:  # the closed form
-            start = initial_state(level.case, level.plan, system), True, _settle_cold(level.case)
+        if start is None:  # the closed form (Carter at a falling law's effective mu on a coarse grid)
+            cold = initial_state(level.case, level.plan, system, effective_law=level.kind == "coarse grid")
+            start = cold, True, _settle_cold(level.case)
         taken = self._attempt(level, system, *start)
         if level.failure is not None and level.kind == "refined mesh" and level.transferred:
             level.failure, level.transferred = None, False
