@@ -121,8 +121,9 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         "frictional_power_total": power.total(w, dissipation),
     }
     attrs.update(half_space_check(case, half_width))  # a/R against the half-space assumption
-    attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None))
-    attrs.update(_sensitivities(case, system, state, converged, half_width, the_plan, solution))
+    found = _sensitivities(case, system, state, converged, half_width, the_plan, solution)
+    attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None, found))
+    attrs.update(found)
     attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
     if is_viscoelastic(a) or is_viscoelastic(b):  # rolling resistance, pressure shift, hysteresis (none if elastic)
         from ..model import resistance
@@ -223,13 +224,18 @@ def _closed_forms(
     }
 
 
-def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
+def _friction_attributes(case: Case, solution: Solution | None = None, found: dict | None = None) -> dict:
     """The velocity-dependent friction law's record (nothing for Coulomb friction, whose files
     stay as they were): its name, mu_kinetic, the rolling speed and the time unit; for a solved
     tangential problem the slope dQ/dxi of the creep-force curve at the solution (node states
     held: :func:`~rolling_cli.solver.reduced.creep_sensitivity`, d mu/d s_a included) and the
     branch it puts the point on: "rising" (dQ/dxi < 0: Q grows with |xi|, the stable side of the
-    curve's peak) or "falling"."""
+    curve's peak) or "falling".
+
+    The slope is the sensitivities' ``dQ_dxi`` (``found``, of :func:`_sensitivities`) where those
+    differentiate the same held matrix (:func:`_shared_slope`): the velocity system is then
+    assembled and solved once for both (it was assembled twice: ~4 ms of a ~50 ms solve at 200
+    elements, benchmarks/RESULTS.md)."""
     from ..model.friction import from_case
 
     law = from_case(case.friction, case.rolling)
@@ -246,6 +252,9 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
 
         problem = solution.problem  # with a prescribed force, its bordered matrix gives the held slope
         state = solution.state
+        shared = _shared_slope(solution, found)
+        if shared is not None:
+            return {**out, "creep_slope": shared, "branch": "rising" if shared < 0.0 else "falling"}
         try:
             ev = formulation.evaluate(problem, state, formulation.traction_scales(problem, state))
             slope = reduced.creep_sensitivity(problem, state, ev)
@@ -254,6 +263,24 @@ def _friction_attributes(case: Case, solution: Solution | None = None) -> dict:
         out["creep_slope"] = float(slope)
         out["branch"] = "rising" if slope < 0.0 else "falling"
     return out
+
+
+def _shared_slope(solution: Solution, found: dict | None) -> float | None:
+    """The held slope dQ/dxi [force/length] of a converged law solve from its sensitivities
+    (:mod:`rolling_cli.solver.law_sensitivity`), or None where they do not give it.
+
+    Those differentiate the velocity system of the problem with the creepage held, or with the
+    force held as Q itself; the slope is A^-1 of the same held matrix A applied to the creepage
+    column, whatever row borders it (:func:`rolling_cli.solver.velocity.creep_derivatives`), so
+    dQ/dxi under creepage control and 1/(dxi/dQ) under force control are the slope, the same
+    numbers up to round-off. Not so where the normal problem is solved with the overlap held (the
+    sensitivities hold P instead: another matrix), nor where they are not finite (a singular
+    matrix: the slope's own solve then says so)."""
+    problem = solution.problem
+    if found is None or problem.friction is None or (problem.normal and problem.load is None):
+        return None
+    slope = found.get("dQ_dxi")
+    return float(slope) if slope is not None and math.isfinite(slope) else None
 
 
 def _sensitivities(

@@ -27,6 +27,7 @@ from ..solver.strategies import Task
 from ..solver.system import ContactSystem
 from .corner import CORNER_BUDGET, corner_start, corner_zone
 from .planning import (
+    COARSE_LAW_TOLERANCE,
     LAYER_ELEMENT_FRACTION,
     PRESOLVE_ZONE,
     Level,
@@ -362,6 +363,8 @@ class MeshPath:
         """The solver task of a level; on a graded level its tolerance is at least the rounding floor
         of the slip differences over its smallest elements (:func:`.adapt.graded.difference_roundoff`)."""
         task = _task(level.case, level.plan, system)
+        if level.kind == "coarse grid" and _sequenced_friction(level.case):
+            task = dataclasses.replace(task, tolerance=max(task.tolerance, COARSE_LAW_TOLERANCE))
         if level.plan.grid.uniform or task.formulation == "normal":
             return task
         floor = graded.difference_roundoff(system, task.mu)
@@ -386,8 +389,9 @@ class MeshPath:
         if that fails too, the level is returned failed (the adaptive loop stops before it)."""
         level = self.levels[number]
         system = self._system(level)
-        if start is None:  # the closed form
-            start = initial_state(level.case, level.plan, system), True, _settle_cold(level.case)
+        if start is None:  # the closed form (Carter at a falling law's effective mu on a coarse grid)
+            cold = initial_state(level.case, level.plan, system, effective_law=level.kind == "coarse grid")
+            start = cold, True, _settle_cold(level.case)
         taken = self._attempt(level, system, *start)
         if level.failure is not None and level.kind == "refined mesh" and level.transferred:
             level.failure, level.transferred = None, False
