@@ -153,7 +153,7 @@ def test_creep_root_slope_includes_the_target_moving_with_the_load():
     held = problem.held(force=None)
     state = solution.state
     ev = formulation.evaluate(held, state, formulation.traction_scales(held, state))
-    d_q, dp_n = reduced.creep_derivatives(held, state, ev)
+    d_q, dp_n, _ = reduced.creep_derivatives(held, state, ev)  # (dp_t/dxi: a finite shaft load's, not here)
     assert d_q == reduced.creep_sensitivity(held, state, ev)
     h = 1e-3 * abs(state.creep)
     shifted = state.copy()
@@ -161,7 +161,8 @@ def test_creep_root_slope_includes_the_target_moving_with_the_load():
     moved = reduced.newton_point(held, shifted, ev)
     w = system.weights
     assert np.max(np.abs(dp_n - (moved.p_n - state.p_n) / h)) <= 1e-6 * np.max(np.abs(dp_n))
-    _, d_target = problem.force_target(state.p_n)
+    _, d_target = problem.force_target(state.p_n, state.p_t)
+    assert problem.target_gradient_t() is None  # a half-plane layer's load holds no p_t
     slope = float(w @ (moved.p_t - state.p_t)) / h - float(d_target @ (moved.p_n - state.p_n)) / h
     assert d_q - float(d_target @ dp_n) == pytest.approx(slope, rel=1e-6)
     # the load moves with xi through the coupling: the target's share of the slope is not negligible

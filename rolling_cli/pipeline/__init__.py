@@ -32,7 +32,6 @@ import dataclasses
 import logging
 import time
 
-from ..adapt.levels import FINITE_BODY_SCOPE
 from ..case import Case, case_to_toml, load_case
 from ..errors import ConvergenceError, ZoneError
 from ..result import Result
@@ -124,6 +123,8 @@ def solve(
     if path.adaptation is not None:
         result.attributes.update(path.adaptation.attributes(final.plan.grid))
         if case.bodies.A.finite or case.bodies.B.finite:  # the estimate reads the contact tractions only
+            from ..adapt.levels import FINITE_BODY_SCOPE  # (adaptive solves only: kept out of fixed meshes' imports)
+
             result.attributes["adaptive_method"] += FINITE_BODY_SCOPE
         disc = dataclasses.replace(final.case.discretization, contact_elements=case.discretization.contact_elements)
         result.case_toml = case_to_toml(dataclasses.replace(final.case, discretization=disc))
