@@ -6,6 +6,9 @@ case keys (core_young, core_poisson, inner_radius)."""
 import numpy as np
 import pytest
 
+from helpers import assert_contact_laws, case_dict, run_cli, solve, write_case
+from rolling_cli.case import load_case
+from rolling_cli.influence import build
 from rolling_cli.influence.bem import core, cylinder
 from rolling_cli.model.grid import ContactGrid
 from rolling_cli.references import annulus, annulus_core
@@ -91,3 +94,116 @@ def test_bem_core_matches_michell(core_young, core_poisson):
         scale = max(np.abs(w_ref).max(), np.abs(u_ref).max())
         assert np.abs(w - w_ref).max() <= 5e-3 * scale
         assert np.abs(u_t - u_ref).max() <= 5e-3 * scale
+
+
+def test_rigid_path_is_the_rigid_core_cover():
+    """The two-region solve with ``stiffness=None`` (u_I = 0) is the rigid-core cover of
+    :func:`.cylinder.xy_compliance` (mirror halves, ring rotation): the same equations by another
+    assembly, so round-off (bound 1e-10 of the largest entry; measured 1e-13)."""
+    mesh = cylinder.annulus_mesh(GRID, R, RC)
+    ref = cylinder.xy_compliance(mesh, GRID, E, NU, radius=R)
+    assert np.abs(core.xy_compliance(mesh, E, NU, None) - ref).max() <= 1e-10 * np.abs(ref).max()
+
+
+def test_stiff_core_and_core_of_the_cover_material():
+    """(1) core_young = 1e6 E: the rigid-core cover (:func:`.cylinder.condensed` at r_i = r_c)
+    within the core's own compliance, G/G_c = 1e-6 times the geometry factor of
+    test_michell_core_limits (the torsion's, ~710; bound twice it, of the largest entry;
+    measured 1.6e-5). (2) A core of the cover's material: the homogeneous annulus r_i < r < R
+    (:func:`.cylinder.condensed`, another mesh): each within 7e-5 of Michell's series
+    (test_bem_core_matches_michell, tests/test_cylinder_bem.py), bound 1e-3 of the largest
+    entry (measured 5e-5)."""
+    stiff = core.condensed(GRID, R, RC, RI, E, NU, 1e6 * E, 0.25)
+    rigid = cylinder.condensed(GRID, R, RC, E, NU)
+    factor = (1.0 / RI**2 - 1.0 / RC**2) / (1.0 / RC**2 - 1.0 / R**2)
+    assert _difference(stiff, rigid) <= 2.0 * 1e-6 * factor * _largest(rigid)
+    same = core.condensed(GRID, R, RC, RI, E, NU, E, NU)
+    whole = cylinder.condensed(GRID, R, RI, E, NU)
+    assert _difference(same, whole) <= 1e-3 * _largest(whole)
+
+
+RIGID_FLAT = {"kind": "rigid", "radius": float("inf")}
+COVER = {"kind": "layered", "shape": "cylinder", "radius": 25.0, "layer_thickness": 5.0, "young": 10.0, "poisson": 0.45}
+
+
+def _case(a, elements=30, **dotted):
+    data = case_dict(
+        **{
+            "normal.load": 2.0,
+            "friction.mu": 0.5,
+            "tangential.q_over_mu_p": 0.3,
+            "discretization.contact_elements": elements,
+            "discretization.influence": None,
+        }
+    )
+    data["bodies"] = {"A": a, "B": RIGID_FLAT}
+    return case_dict(data, **dotted)
+
+
+def test_solve_core_of_the_cover_material_is_the_homogeneous_roller():
+    """The whole solve: a cover on a core of its own material, bore 10, against the homogeneous
+    finite roller (kind = "elastic", inner_radius = 10): the compliances differ by the BEM's
+    mesh error (1e-3 of the largest entry at most, above; measured 5e-5), so creepage, overlap and
+    peak pressure within 1e-3 relative (measured 7e-5, 2e-5, 5e-6). The effects line names the core."""
+    cover = solve(_case({**COVER, "core_young": 10.0, "core_poisson": 0.45, "inner_radius": 10.0}))
+    homogeneous = {k: v for k, v in COVER.items() if k != "layer_thickness"}
+    whole = solve(_case(homogeneous | {"kind": "elastic", "inner_radius": 10.0}))
+    assert_contact_laws(cover)
+    assert "body shape: finite cylinder (A: R = 25, cover 5 on an elastic core, bore 10)" in cover.effects_line
+    assert "cover on an elastic core" in cover.effects_line
+    for name in ("creep", "overlap"):
+        assert abs(getattr(cover, name) - getattr(whole, name)) <= 1e-3 * abs(getattr(whole, name)), name
+    assert abs(cover.p_n.min() - whole.p_n.min()) <= 1e-3 * abs(whole.p_n.min())
+
+
+def test_absent_core_keys_leave_the_rigid_core_unchanged():
+    """Without core_young the BEM inputs (the cache key) are today's, so the same compliance bit
+    for bit; with it, the core's moduli and bore join them (a default bore CORE_BORE R)."""
+    from rolling_cli import pipeline
+
+    rigid = load_case(case_dict(_case(COVER)))
+    the_plan = pipeline.plan(rigid)
+    inputs = build.bem_inputs(rigid, the_plan, rigid.bodies.A)
+    assert not any(key.startswith("core") for key in inputs)
+    elastic = load_case(case_dict(_case({**COVER, "core_young": 50.0, "core_poisson": 0.3})))
+    inputs = build.bem_inputs(elastic, pipeline.plan(elastic), elastic.bodies.A)
+    assert inputs["core_young"] == 50.0 and inputs["core_poisson"] == 0.3 and inputs["core_bore"] == 0.05 * 25.0
+
+
+@pytest.mark.parametrize(
+    ("extra", "key", "why"),
+    [
+        ({"core_young": 0.0, "core_poisson": 0.3}, "bodies.A.core_young", ""),
+        ({"core_young": 50.0, "core_poisson": 0.6}, "bodies.A.core_poisson", ""),
+        ({"core_young": 50.0, "core_poisson": -1.0}, "bodies.A.core_poisson", ""),
+        ({"core_young": 50.0}, "bodies.A.core_poisson", "missing key"),
+        ({"core_poisson": 0.3}, "bodies.A.core_young", "missing key"),
+        (
+            {"core_young": 50.0, "core_poisson": 0.3, "inner_radius": 20.0},
+            "bodies.A.inner_radius = 20",
+            "not inside the core",
+        ),
+        ({"inner_radius": 2.0}, "bodies.A.inner_radius = 2", "rigid core"),
+        ({"core_young": 50.0, "core_poisson": 0.3, "shape": None}, "bodies.A.core_young", "needs kind"),
+        (
+            {"core_young": 50.0, "core_poisson": 0.3, "viscoelastic": True, "relaxed_young": 5.0, "creep_time": 1.0},
+            "bodies.A.core_young",
+            "viscoelastic cover",
+        ),
+    ],
+)
+def test_bad_core_keys_are_one_line_errors(tmp_path, extra, key, why):
+    body = {k: v for k, v in (COVER | extra).items() if v is not None}
+    result = run_cli("solve", write_case(tmp_path, _case(body)), "-o", tmp_path / "out.h5")
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and key in lines[0] and why in lines[0], result.output
+
+
+def test_stresses_of_an_elastic_core_are_refused(tmp_path):
+    data = _case({**COVER, "core_young": 50.0, "core_poisson": 0.3})
+    data["stresses"] = {"bodies": ["A"]}
+    result = run_cli("solve", write_case(tmp_path, data), "-o", tmp_path / "out.h5")
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and "stresses.bodies" in lines[0] and "elastic core" in lines[0], result.output

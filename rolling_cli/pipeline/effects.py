@@ -120,7 +120,9 @@ def _shape_phrase(label: str, body: Body) -> str:
     """``A: R = 5, bore 2`` (elastic), ``A: R = 5, core 4`` (a cover on a rigid core) or
     ``A: R = 25, cover 5 on an elastic core, bore 1`` (:attr:`~rolling_cli.case.schema.Body.elastic_core`)."""
     if body.elastic_core:
-        return f"{label}: R = {body.radius:g}, cover {body.layer_thickness:g} on an elastic core, bore {body.core_bore:g}"
+        return (
+            f"{label}: R = {body.radius:g}, cover {body.layer_thickness:g} on an elastic core, bore {body.core_bore:g}"
+        )
     what = "core" if body.kind == "layered" else "bore"
     return f"{label}: R = {body.radius:g}, {what} {body.core_radius:g}"
 

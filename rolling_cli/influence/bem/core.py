@@ -94,9 +94,7 @@ def interface_stiffness(
     return np.linalg.solve(G, H[:, dofs])[dofs]
 
 
-def xy_compliance(
-    cover: BoundaryMesh, young: float, poisson: float, stiffness: np.ndarray | None
-) -> np.ndarray:
+def xy_compliance(cover: BoundaryMesh, young: float, poisson: float, stiffness: np.ndarray | None) -> np.ndarray:
     """C (n_c, 2, n_c, 2) [length/stress]: du_k(i)/dt_l(j) of the cover's contact nodes per unit
     nodal contact traction (frame components), its interface held by the ``stiffness`` K of
     :func:`interface_stiffness` (t_I = -K u_I), or bonded to a rigid core for None (u_I = 0).
