@@ -366,7 +366,7 @@ def _check_core(body: schema.Body, key: str, file: str | None) -> None:
             "a viscoelastic cover's history assumes a rigid core",
             "remove core_young and core_poisson, or viscoelastic = false",
         )
-    interface = float(body.radius) - float(body.layer_thickness)
+    interface = body.core_radius  # radius - layer_thickness
     if not body.core_bore < interface:
         raise _fail(
             file,
@@ -455,13 +455,14 @@ def _check_shapes(case: schema.Case, file: str | None) -> None:
                 f"against the finite cylinder bodies.{label} (radius {body.radius:g})",
                 f'kind = "rigid", or shape = "cylinder" with radius = {body.radius:g}',
             )
-    stresses = getattr(case, "stresses", None)
-    for label in stresses.bodies if stresses is not None else ():
+    stresses = case.stresses
+    labels = stresses.bodies if stresses is not None else ()
+    for label in labels:
         if getattr(case.bodies, label).elastic_core:
             raise _fail(
                 file,
                 "stresses.bodies",
-                list(stresses.bodies),
+                list(labels),
                 f"no subsurface field yet for the cover on an elastic core (bodies.{label})",
                 "the other body only, or no [stresses] table",
             )
