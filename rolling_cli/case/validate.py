@@ -455,17 +455,6 @@ def _check_shapes(case: schema.Case, file: str | None) -> None:
                 f"against the finite cylinder bodies.{label} (radius {body.radius:g})",
                 f'kind = "rigid", or shape = "cylinder" with radius = {body.radius:g}',
             )
-    stresses = case.stresses
-    labels = stresses.bodies if stresses is not None else ()
-    for label in labels:
-        if getattr(case.bodies, label).elastic_core:
-            raise _fail(
-                file,
-                "stresses.bodies",
-                list(labels),
-                f"no subsurface field yet for the cover on an elastic core (bodies.{label})",
-                "the other body only, or no [stresses] table",
-            )
     if (a.finite or b.finite) and case.discretization.influence == "half-plane":
         raise _fail(
             file,

@@ -265,8 +265,12 @@ def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarr
 
     inputs = bem_inputs(case, the_plan, body)
     sign = 1.0 if label == "A" else -1.0
-    if body.elastic_core:
-        raise ValueError(f"body {label}: the boundary solution of a cover on an elastic core is not implemented")
+    if body.elastic_core:  # the cover on its elastic core: the cover's boundary, its interface held by the core
+        from .bem import core
+
+        moduli = (inputs["young"], inputs["poisson"], inputs["core_young"], inputs["core_poisson"])
+        geometry = (inputs["radius"], inputs["inner_radius"], inputs["core_bore"])
+        return core.boundary_solution(contact_grid(inputs), *geometry, moduli, p_n, sign * np.asarray(p_t))
     if body.finite:  # the annulus, its tractions along its arc (the nodes' own directions)
         from .bem.annulus_solution import annulus_solution
 

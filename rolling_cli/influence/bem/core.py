@@ -36,7 +36,7 @@ from .assembly import assemble
 from .cylinder import _arc_segment, annulus_mesh, contact_angles, rotate
 from .mesh import BoundaryMesh, _Builder
 
-__all__ = ["core_mesh", "interface_stiffness", "xy_compliance", "condensed", "BORE_ELEMENTS"]
+__all__ = ["core_mesh", "interface_stiffness", "xy_compliance", "condensed", "boundary_solution", "BORE_ELEMENTS"]
 
 #: Elements round the core's bore at least (more if the core is thinner than an element).
 BORE_ELEMENTS = 32
@@ -94,19 +94,57 @@ def interface_stiffness(
     return np.linalg.solve(G, H[:, dofs])[dofs]
 
 
-def xy_compliance(cover: BoundaryMesh, young: float, poisson: float, stiffness: np.ndarray | None) -> np.ndarray:
-    """C (n_c, 2, n_c, 2) [length/stress]: du_k(i)/dt_l(j) of the cover's contact nodes per unit
-    nodal contact traction (frame components), its interface held by the ``stiffness`` K of
-    :func:`interface_stiffness` (t_I = -K u_I), or bonded to a rigid core for None (u_I = 0).
-    ``young`` E [stress] and ``poisson`` of the cover."""
+def _system(cover: BoundaryMesh, young: float, poisson: float, stiffness: np.ndarray | None):
+    """(A, G's contact columns, the interface dofs): the cover's system A X = G_c t_c, X every
+    node's displacement (the interface's too) for the ``stiffness`` K, or X the displacements and
+    the interface tractions for a rigid core (None)."""
     H, G = assemble(cover, young / (2.0 * (1.0 + poisson)), poisson)
     dofs = (2 * np.flatnonzero(cover.fixed)[:, None] + np.arange(2)).ravel()
     A = H
     A[:, dofs] = -G[:, dofs] if stiffness is None else H[:, dofs] + G[:, dofs] @ stiffness
     contact = (2 * cover.contact[:, None] + np.arange(2)).ravel()
-    solution = np.linalg.solve(A, G[:, contact])  # columns: unit nodal tractions at the contact dofs
+    return A, G[:, contact], dofs
+
+
+def xy_compliance(cover: BoundaryMesh, young: float, poisson: float, stiffness: np.ndarray | None) -> np.ndarray:
+    """C (n_c, 2, n_c, 2) [length/stress]: du_k(i)/dt_l(j) of the cover's contact nodes per unit
+    nodal contact traction (frame components), its interface held by the ``stiffness`` K of
+    :func:`interface_stiffness` (t_I = -K u_I), or bonded to a rigid core for None (u_I = 0).
+    ``young`` E [stress] and ``poisson`` of the cover."""
+    A, rhs, _ = _system(cover, young, poisson, stiffness)
+    solution = np.linalg.solve(A, rhs)  # columns: unit nodal tractions at the contact dofs
+    contact = (2 * cover.contact[:, None] + np.arange(2)).ravel()
     nc = cover.contact.size
     return solution[contact].reshape(nc, 2, nc, 2)
+
+
+def boundary_solution(
+    grid: ContactGrid,
+    radius: float,
+    core_radius: float,
+    inner_radius: float,
+    moduli: tuple[float, float, float, float],
+    p_n: np.ndarray,
+    p_t: np.ndarray,
+) -> tuple[BoundaryMesh, np.ndarray, np.ndarray]:
+    """``(mesh, u, t)`` of the cover on its elastic core for the contact tractions ``p_n``, ``p_t``
+    (n_c,) [stress] along the arc's directions, as :func:`.annulus_solution.annulus_solution`: the
+    cover's mesh, every node's displacement u (N, 2) [length] and traction t (N, 2) [stress] in the
+    frame's components, the interface's (``mesh.fixed``) t = -K u (the core's push on the cover).
+    ``moduli`` = (E, nu) of the cover, then (E_c, nu_c) of the core [stress]."""
+    young, poisson, core_young, core_poisson = moduli
+    cover = annulus_mesh(grid, radius, core_radius)
+    stiffness = interface_stiffness(cover, radius, core_radius, inner_radius, core_young, core_poisson)
+    theta = contact_angles(cover, radius)
+    normal = np.column_stack([np.sin(theta), np.cos(theta)])
+    tangent = np.column_stack([np.cos(theta), -np.sin(theta)])
+    t_c = np.asarray(p_n, dtype=float)[:, None] * normal + np.asarray(p_t, dtype=float)[:, None] * tangent
+    A, rhs, dofs = _system(cover, young, poisson, stiffness)
+    u = np.linalg.solve(A, rhs @ t_c.ravel())
+    t = np.zeros(2 * cover.size)
+    t[(2 * cover.contact[:, None] + np.arange(2)).ravel()] = t_c.ravel()
+    t[dofs] = -stiffness @ u[dofs]
+    return cover, u.reshape(cover.size, 2), t.reshape(cover.size, 2)
 
 
 def condensed(
