@@ -227,3 +227,21 @@ def test_stresses_in_the_cover_on_an_elastic_core():
         assert np.abs(stiff.arrays[name] - rigid.arrays[name]).max() <= 2.0 * 1e-6 * factor * scale, name
         scale = np.abs(whole.arrays[name]).max()
         assert np.abs(same.arrays[name] - whole.arrays[name]).max() <= 5e-3 * scale, name
+
+
+def test_graded_grid_with_tiny_elements():
+    """An adaptive level's graded grid (elements down to 1e-5 of their neighbours beside a kink):
+    the two-region path's rigid limit is still the rigid-core cover to round-off (bound 1e-10;
+    the whole-system assembly replaces the own-node integrals by the rigid-body condition, as the
+    mirror-half systems do: summing them in had left 3 % here), and a core 1e6 times stiffer within
+    the core's compliance (bound as test_stiff_core_and_core_of_the_cover_material)."""
+    uniform = np.linspace(-1.5, 1.5, 31)
+    edges = np.sort(np.concatenate([uniform, [0.55 + 1e-5, 0.55 + 2e-5, 0.55 + 1e-3, 0.55 + 1e-2]]))
+    grid = ContactGrid.graded(edges, 2)
+    mesh = cylinder.annulus_mesh(grid, R, RC)
+    ref = cylinder.xy_compliance(mesh, grid, E, NU, radius=R)
+    assert np.abs(core.xy_compliance(mesh, E, NU, None) - ref).max() <= 1e-10 * np.abs(ref).max()
+    stiff = core.condensed(grid, R, RC, RI, E, NU, 1e6 * E, 0.25)
+    rigid = cylinder.condensed(grid, R, RC, E, NU)
+    factor = (1.0 / RI**2 - 1.0 / RC**2) / (1.0 / RC**2 - 1.0 / R**2)
+    assert _difference(stiff, rigid) <= 2.0 * 1e-6 * factor * _largest(rigid)
