@@ -25,6 +25,10 @@ from .given import given
 SMALLEST = 1e-30
 LARGEST = 1e30
 
+#: The default bore of an elastic core under a cover (``core_young``), as a fraction of the outer
+#: radius: a solid core on a thin axle (the core's approach is then measured from that axle).
+CORE_BORE = 0.05
+
 #: Friction coefficients: 0 (frictionless) or MU_SMALLEST..MU_LARGEST. With
 #: dissimilar bodies the adhesion slip is the difference of the coupling term
 #: B_tn p_n, of order (a/R), and terms of order mu (a/R): below mu ~ 1e-6 that
@@ -115,10 +119,27 @@ class Body:
     )
     inner_radius: float | None = spec(
         None,
-        doc="bore radius r_i [length], bonded to a rigid shaft (shape = cylinder, elastic; 0 < r_i < radius)",
+        doc="bore radius r_i [length], bonded to a rigid shaft (shape = cylinder, elastic; 0 < r_i < radius; "
+        "layered with core_young: the elastic core's bore, r_i < radius - layer_thickness, default "
+        "CORE_BORE x radius)",
         kind="float",
         ge=SMALLEST,
         le=LARGEST,
+    )
+    core_young: float | None = spec(
+        None,
+        doc="Young's modulus of an elastic core under the cover [stress] (layered, shape = cylinder; absent: "
+        "a rigid core)",
+        kind="float",
+        ge=SMALLEST,
+        le=LARGEST,
+    )
+    core_poisson: float | None = spec(
+        None,
+        doc="Poisson's ratio of the elastic core (with core_young; -1 < nu <= 0.5)",
+        kind="float",
+        gt=-1.0,
+        le=0.5,
     )
 
     @property
@@ -147,6 +168,19 @@ class Body:
         if self.kind == "layered":
             return float(self.radius) - float(given(self.layer_thickness, "layer_thickness"))
         return float(given(self.inner_radius, "inner_radius"))
+
+    @property
+    def elastic_core(self) -> bool:
+        """True for a finite layered cylinder whose cover is bonded to an elastic core (``core_young``)."""
+        return self.kind == "layered" and self.finite and self.core_young is not None
+
+    @property
+    def core_bore(self) -> float:
+        """The elastic core's bore r_i [length], bonded to the rigid shaft: ``inner_radius``, by
+        default ``CORE_BORE`` x radius (a solid core on a thin axle)."""
+        if self.inner_radius is not None:
+            return float(self.inner_radius)
+        return CORE_BORE * float(self.radius)
 
     @property
     def modulus(self) -> float:

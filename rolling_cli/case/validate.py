@@ -276,8 +276,18 @@ def _check_body_keys(body: schema.Body, label: str, file: str | None) -> None:
 
 def _check_body_shape(body: schema.Body, label: str, file: str | None) -> None:
     """One body's ``shape`` and ``inner_radius``: none on a rigid body, a bore only on a finite
-    elastic or viscoelastic cylinder (inside it), a finite radius."""
+    elastic or viscoelastic cylinder (inside it), a finite radius; core keys only on a finite
+    layered cylinder."""
     key = f"bodies.{label}"
+    for name in ("core_young", "core_poisson"):
+        if getattr(body, name) is not None and not (body.kind == "layered" and body.finite):
+            raise _fail(
+                file,
+                f"{key}.{name}",
+                getattr(body, name),
+                'an elastic core needs kind = "layered" and shape = "cylinder"',
+                "remove it",
+            )
     if body.rigid:
         if body.shape != "half-space":
             raise _fail(file, f"{key}.shape", body.shape, "a rigid body has no elastic shape", "remove it")
@@ -305,14 +315,7 @@ def _check_body_shape(body: schema.Body, label: str, file: str | None) -> None:
             "a number < 0.5 (e.g. 0.499 for rubber)",
         )
     if body.kind == "layered":
-        if body.inner_radius is not None:
-            raise _fail(
-                file,
-                f"{key}.inner_radius",
-                body.inner_radius,
-                "not used by a layered cylinder (its rigid core has radius radius - layer_thickness)",
-                "remove it",
-            )
+        _check_core(body, key, file)
         return
     if body.inner_radius is None:
         raise CaseError(
@@ -327,6 +330,50 @@ def _check_body_shape(body: schema.Body, label: str, file: str | None) -> None:
             body.inner_radius,
             f"not inside the body (radius {body.radius:g})",
             f"a number < bodies.{label}.radius",
+        )
+
+
+def _check_core(body: schema.Body, key: str, file: str | None) -> None:
+    """A finite layered cylinder's core: rigid (no core keys, no bore), or elastic (``core_young``
+    and ``core_poisson`` together, an elastic cover, a bore inside the core)."""
+    if body.core_young is None:
+        if body.core_poisson is not None:
+            raise CaseError(
+                f"{key}.core_young: missing key (core_poisson is given); allowed: a number > 0",
+                file=file,
+                key=f"{key}.core_young",
+            )
+        if body.inner_radius is not None:
+            raise _fail(
+                file,
+                f"{key}.inner_radius",
+                body.inner_radius,
+                "not used by a layered cylinder on a rigid core (its core has radius radius - layer_thickness)",
+                "remove it, or give core_young and core_poisson for an elastic core",
+            )
+        return
+    if body.core_poisson is None:
+        raise CaseError(
+            f"{key}.core_poisson: missing key (core_young is given); allowed: a number in (-1, 0.5]",
+            file=file,
+            key=f"{key}.core_poisson",
+        )
+    if body.viscoelastic:
+        raise _fail(
+            file,
+            f"{key}.core_young",
+            body.core_young,
+            "a viscoelastic cover's history assumes a rigid core",
+            "remove core_young and core_poisson, or viscoelastic = false",
+        )
+    interface = body.core_radius  # radius - layer_thickness
+    if not body.core_bore < interface:
+        raise _fail(
+            file,
+            f"{key}.inner_radius",
+            body.core_bore,
+            f"not inside the core (radius - layer_thickness = {interface:g})",
+            f"a number < {interface:g}",
         )
 
 

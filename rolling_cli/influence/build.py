@@ -114,6 +114,9 @@ def bem_inputs(case, the_plan, body) -> dict:
             "inner_radius": shape.inner_radius,
             "mesh_rules": cylinder_mesh_rules(),
         }
+        if body.elastic_core:  # the cover on an elastic core (:mod:`.bem.core`); absent: keys as before
+            geometry.update(core_young=float(body.core_young), core_poisson=float(body.core_poisson))
+            geometry["core_bore"] = body.core_bore
     elif body.kind == "layered":
         thickness = float(body.layer_thickness)
         geometry = {"half_width": grid.half_width + disc.layer_length * thickness, "depth": thickness}
@@ -208,6 +211,19 @@ def _compute_bem(inputs: dict) -> Compliance:
         from .bem import cylinder
 
         grid = contact_grid(inputs)
+        if "core_young" in inputs:  # the cover on an elastic core
+            from .bem import core
+
+            return core.condensed(
+                grid,
+                inputs["radius"],
+                inputs["inner_radius"],
+                inputs["core_bore"],
+                inputs["young"],
+                inputs["poisson"],
+                inputs["core_young"],
+                inputs["core_poisson"],
+            )
         return cylinder.condensed(grid, inputs["radius"], inputs["inner_radius"], inputs["young"], inputs["poisson"])
     mesh, grid = _mesh(inputs)
     return bem.condensed(mesh, grid, inputs["young"], inputs["poisson"])
@@ -249,6 +265,12 @@ def boundary_solution(case, the_plan, label: str, p_n: np.ndarray, p_t: np.ndarr
 
     inputs = bem_inputs(case, the_plan, body)
     sign = 1.0 if label == "A" else -1.0
+    if body.elastic_core:  # the cover on its elastic core: the cover's boundary, its interface held by the core
+        from .bem import core
+
+        moduli = (inputs["young"], inputs["poisson"], inputs["core_young"], inputs["core_poisson"])
+        geometry = (inputs["radius"], inputs["inner_radius"], inputs["core_bore"])
+        return core.boundary_solution(contact_grid(inputs), *geometry, moduli, p_n, sign * np.asarray(p_t))
     if body.finite:  # the annulus, its tractions along its arc (the nodes' own directions)
         from .bem.annulus_solution import annulus_solution
 

@@ -111,11 +111,18 @@ def identical(a: Body, b: Body) -> bool:
         and a.viscoelastic == b.viscoelastic
         and a.shape == b.shape
         and (not a.finite or (a.radius == b.radius and a.inner_radius == b.inner_radius))
+        and a.core_young == b.core_young
+        and a.core_poisson == b.core_poisson
     )
 
 
 def _shape_phrase(label: str, body: Body) -> str:
-    """``A: R = 5, bore 2`` (elastic) or ``A: R = 5, core 4`` (a cover on a rigid core)."""
+    """``A: R = 5, bore 2`` (elastic), ``A: R = 5, core 4`` (a cover on a rigid core) or
+    ``A: R = 25, cover 5 on an elastic core, bore 1`` (:attr:`~rolling_cli.case.schema.Body.elastic_core`)."""
+    if body.elastic_core:
+        return (
+            f"{label}: R = {body.radius:g}, cover {body.layer_thickness:g} on an elastic core, bore {body.core_bore:g}"
+        )
     what = "core" if body.kind == "layered" else "bore"
     return f"{label}: R = {body.radius:g}, {what} {body.core_radius:g}"
 
@@ -232,7 +239,9 @@ def decide(case: Case) -> Effects:
                 kind = "BEM layer on a rigid core" if body.kind == "layered" else "BEM half-space"
                 if body.finite:
                     kind = "BEM finite cylinder, " + (
-                        "cover on a rigid core" if body.kind == "layered" else "bore on a rigid shaft"
+                        ("cover on an elastic core" if body.elastic_core else "cover on a rigid core")
+                        if body.kind == "layered"
+                        else "bore on a rigid shaft"
                     )
                 notes[f"influence {label}"] = f"simulated: {kind}"
         finite = [_shape_phrase(label, body) for label, body in (("A", a), ("B", b)) if body.finite]

@@ -126,18 +126,29 @@ def surface_displacement(
     if m % 2 or sigma_rt.size != m:
         raise ValueError("the samples must be an even number M of points, the same for both tractions")
     modes = m // 2 - 1
+    radial, torsion = _axisymmetric(inner_radius / radius, poisson)
+    response = mode_responses(modes, inner_radius / radius, poisson)
+    return synthesis(sigma_rr, sigma_rt, response, radial, torsion, radius / shear)
+
+
+def synthesis(
+    sigma_rr: np.ndarray, sigma_rt: np.ndarray, response: np.ndarray, radial: float, torsion: float, scale: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """u_r and u_theta [length] at r = R from the samples of :func:`surface_displacement` (M even)
+    and a body's mode responses: ``response`` (M/2 - 1, 2, 2) as :func:`mode_responses`, ``radial``
+    and ``torsion`` the n = 0 ones as :func:`_axisymmetric`, all dimensionless per ``scale``
+    R / G [length/stress]."""
+    m = sigma_rr.size
+    modes = m // 2 - 1
     s_hat = np.fft.rfft(sigma_rr)  # sigma = Re sum c_n e^{i n theta}, c_n = 2 X_n / M (n >= 1)
     t_hat = 1j * np.fft.rfft(sigma_rt)  # sigma_rt = Re sum (-i T_n) e^{i n theta}
-    response = mode_responses(modes, inner_radius / radius, poisson)
     n = slice(1, modes + 1)
     u_hat = np.zeros_like(s_hat)
     v_hat = np.zeros_like(s_hat)
     u_hat[n] = response[:, 0, 0] * s_hat[n] + response[:, 0, 1] * t_hat[n]
     v_hat[n] = -1j * (response[:, 1, 0] * s_hat[n] + response[:, 1, 1] * t_hat[n])
-    radial, torsion = _axisymmetric(inner_radius / radius, poisson)
     u_hat[0] = radial * s_hat[0]
     v_hat[0] = torsion * (-1j * t_hat[0])  # the mean shear, real
-    scale = radius / shear
     return scale * np.fft.irfft(u_hat, m), scale * np.fft.irfft(v_hat, m)
 
 
