@@ -39,9 +39,8 @@ def _halfplane_alone(case, the_plan, label: str):
     its u is u_A, or -u_B for B)."""
     from . import build
 
-    pair = [None, None]
-    index = 0 if label == "A" else 1
-    pair[index] = material(getattr(case.bodies, label))
+    own = material(getattr(case.bodies, label))
+    pair = (own, None) if label == "A" else (None, own)
     coupling = the_plan.effects.coupling
     if viscoelastic_bodies(case):
         return build._viscoelastic(

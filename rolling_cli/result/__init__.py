@@ -45,7 +45,10 @@ DATASETS = {
     "state": ("contact state: 0 separation, 1 adhesion, 2 slip", "1"),
     "frictional_power": ("frictional power density per unit rolling speed, -p_t s_t (>= 0, dissipated)", "stress"),
     **{
-        f"surface_{c}_{label}": (f"surface displacement of body {label} {what} (rolling_cli.influence.surface)", "length")
+        f"surface_{c}_{label}": (
+            f"surface displacement of body {label} {what} (rolling_cli.influence.surface)",
+            "length",
+        )
         for label in ("A", "B")
         for c, what in (
             ("w", "into the body (its arc's inward normal for a finite cylinder), from the model's datum"),
