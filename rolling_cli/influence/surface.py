@@ -11,12 +11,15 @@ frame, :mod:`rolling_cli.influence.finite`). They are the parts of the pair's
 (:func:`rolling_cli.influence.combine`): w = w_A + w_B and u = u_A - u_B are
 exactly the pair's, so the gap they draw is the solver's gap.
 
-The half-plane models (elastic closed form, viscoelastic steady-rolling
-kernels) build each body as a pair with a rigid counterpart (the pair's blocks
-are the sum of the bodies'), with the same coupling as the solved pair; their
-displacements are relative to the model's datum (the log kernel's reference
-length: a rigid shift in 2D). The BEM bodies (half-space blocks, layers,
-finite cylinders) are :func:`rolling_cli.influence.build.deformable_body`, the
+The elastic closed-form half-planes scale the solved pair's blocks (the
+same two kernels, :func:`_elastic_halfplanes`); otherwise a half-plane model
+(viscoelastic steady-rolling kernels; an elastic pair whose cross kernel
+cancels) builds each body as a pair with a rigid counterpart (the pair's
+blocks are the sum of the bodies'), with the same coupling as the solved
+pair. Half-plane displacements are relative to the model's datum (the log
+kernel's reference length: a rigid shift in 2D). The BEM bodies (half-space
+blocks, layers, finite cylinders) are
+:func:`rolling_cli.influence.build.deformable_body`, the
 memoised compliance the solve used (not rebuilt).
 """
 
@@ -49,9 +52,48 @@ def _halfplane_alone(case, the_plan, label: str):
     return build._halfplane(the_plan.grid, pair[0], pair[1], coupling)
 
 
-def body_displacements(case, the_plan, p_n: np.ndarray, p_t: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+def _elastic_halfplanes(case, pair, p_n: np.ndarray, p_t: np.ndarray) -> dict | None:
+    """Elastic closed-form half-planes from the solved pair's blocks ``pair`` (``S_nn``, ``S_nt``: the
+    pair's k L and C Sg, k = sum of the bodies' 2 (1 - nu^2) / (pi E), C = c_A - c_B the cross
+    compliances, :mod:`.halfplane`), no kernel integrated again: body X's blocks are k_X L and c_X Sg,
+    so L and Sg are the pair's divided by k and C. None where the pair's coupling is on but C = 0
+    (Sg is then not in the pair: the caller integrates it)."""
+    from ..model import materials as constants
+
+    direct, cross = {}, {}
+    for label in ("A", "B"):
+        found = material(getattr(case.bodies, label))
+        if found is not None:
+            direct[label] = 2.0 * constants.plane_strain_compliance(found.young, found.poisson) / np.pi
+            cross[label] = constants.coupling_compliance(found.young, found.poisson)
+    k = sum(direct.values())
+    big_c = cross.get("A", 0.0) - cross.get("B", 0.0)
+    if pair.S_nt is not None and big_c == 0.0:
+        return None
+    log_n, log_t = _apply(pair.S_nn, p_n) / k, _apply(pair.S_nn, p_t) / k  # L p_n, L p_t
+    sign_n = sign_t = np.zeros_like(p_n)  # Sg p_n, Sg p_t (zero: the coupling was not solved)
+    if pair.S_nt is not None:
+        sign_n, sign_t = _apply(pair.S_nt, p_n) / big_c, _apply(pair.S_nt, p_t) / big_c
+    out = {}
+    for label, k_x in direct.items():
+        side = 1.0 if label == "A" else -1.0  # the body's tangential traction, +-p_t
+        c_x = cross[label]
+        out[label] = (k_x * log_n + side * c_x * sign_t, c_x * sign_n - side * k_x * log_t)
+    return out
+
+
+def body_displacements(
+    case, the_plan, p_n: np.ndarray, p_t: np.ndarray, pair=None
+) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """{label: (w, u)} [length] of each deformable body of ``case`` ("A", "B"; a rigid one is left out)
-    for the nodal tractions ``p_n``, ``p_t`` [stress] on the plan's contact grid (p_t on A)."""
+    for the nodal tractions ``p_n``, ``p_t`` [stress] on the plan's contact grid (p_t on A).
+    ``pair``: the solved pair's blocks (``S_nn``, ``S_nt``, e.g. the contact system), which serve
+    elastic closed-form half-planes without integrating their kernels again."""
+    elastic_halfplane = the_plan.effects.influence == "half-plane" and not viscoelastic_bodies(case)
+    if pair is not None and elastic_halfplane:
+        found = _elastic_halfplanes(case, pair, p_n, p_t)
+        if found is not None:
+            return found
     out = {}
     for label in ("A", "B"):
         body = getattr(case.bodies, label)

@@ -37,7 +37,7 @@ def _attach_stresses(case: Case, the_plan: Plan, result: Result) -> Result:
     return attach(case, the_plan, result)
 
 
-def _surfaces(case: Case, the_plan: Plan, p_n: np.ndarray, p_t: np.ndarray) -> dict:
+def _surfaces(case: Case, the_plan: Plan, system: ContactSystem, p_n: np.ndarray, p_t: np.ndarray) -> dict:
     """Each deformable body's surface displacements {label: (w, u)} [length] from its own compliance
     (:mod:`rolling_cli.influence.surface`; a BEM body's memoised: the one solved); empty when the
     tractions are empty."""
@@ -45,7 +45,7 @@ def _surfaces(case: Case, the_plan: Plan, p_n: np.ndarray, p_t: np.ndarray) -> d
         return {}
     from ..influence.surface import body_displacements
 
-    return body_displacements(case, the_plan, p_n, p_t)
+    return body_displacements(case, the_plan, p_n, p_t, system)
 
 
 def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dict:
@@ -125,7 +125,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None, found))
     attrs.update(found)
     attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
-    surfaces = _surfaces(case, the_plan, p_n, p_t)  # each body's (w, u): the result and the power balance
+    surfaces = _surfaces(case, the_plan, system, p_n, p_t)  # each body's (w, u): the result and the power balance
     if is_viscoelastic(a) or is_viscoelastic(b):  # rolling resistance, pressure shift, hysteresis (none if elastic)
         from ..model import resistance
 
