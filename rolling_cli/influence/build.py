@@ -153,13 +153,20 @@ def contact_grid(inputs: dict) -> ContactGrid:
 
 def _bem_body(inputs: dict, use_cache: bool) -> tuple[Compliance, str]:
     """A BEM body's compliance: from the in-process memo, the disk cache or computed. A graded
-    grid's (an adaptive level, keyed on its edges) skips the memo, which would keep every level's
-    dense matrices, but uses the disk cache (a re-run meets the same levels)."""
+    grid's (an adaptive level, keyed on its edges) is kept for the last two bodies only (not every
+    level's dense matrices: the final level's, which the result's surface displacements read) and
+    uses the disk cache (a re-run meets the same levels)."""
     from . import cache  # the disk cache only for BEM bodies (start-up)
 
-    if "element_edges" in inputs:
-        return cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
     frozen = tuple(sorted(inputs.items()))
+    if "element_edges" in inputs:  # the last two graded bodies only: the result's surfaces read them again
+        if frozen in _graded_memo:
+            return _graded_memo[frozen], "reused in-process"
+        found, origin = cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
+        _graded_memo[frozen] = found
+        if len(_graded_memo) > 2:
+            _graded_memo.pop(next(iter(_graded_memo)))
+        return found, origin
     if frozen in _memo:
         return _memo[frozen], "reused in-process"
     found, origin = cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
@@ -170,13 +177,18 @@ def _bem_body(inputs: dict, use_cache: bool) -> tuple[Compliance, str]:
 
 
 _memo: dict[tuple, Compliance] = {}
+#: The last two graded BEM bodies (an adaptive level's; :mod:`.surface` reads the final one again).
+_graded_memo: dict[tuple, Compliance] = {}
 #: The last viscoelastic finite cylinders' compliances (body, grid and speed in the key).
 _cylinder_memo: dict[tuple, Compliance] = {}
+#: The last two graded BEM bodies (an adaptive level's; :mod:`.surface` reads the final one again).
+_graded_memo: dict[tuple, Compliance] = {}
 
 
 def clear_memo() -> None:
     """Forget the in-process influence memo (benchmarks time cold builds)."""
     _memo.clear()
+    _graded_memo.clear()
     _cylinder_memo.clear()
     _halfplane.cache_clear()
     _viscoelastic.cache_clear()

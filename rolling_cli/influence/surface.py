@@ -107,7 +107,7 @@ def body_displacements(
             continue
         from .build import deformable_body
 
-        own, _ = deformable_body(case, the_plan, body)
+        own, _ = deformable_body(case, the_plan, body, use_cache=False)  # in memory; never the disk cache
         traction = p_t if label == "A" else -p_t
         coupled = the_plan.effects.coupling  # the pair's cross blocks only where the solve had them
         w = _apply(own.S_nn, p_n) + _apply(own.S_nt if coupled else None, traction)
