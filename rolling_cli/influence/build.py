@@ -154,13 +154,14 @@ def contact_grid(inputs: dict) -> ContactGrid:
 def _bem_body(inputs: dict, use_cache: bool) -> tuple[Compliance, str]:
     """A BEM body's compliance: from the in-process memo, the disk cache or computed. A graded
     grid's (an adaptive level, keyed on its edges) is kept for the last two bodies only (not every
-    level's dense matrices: the final level's, which the result's surface displacements read) and
-    uses the disk cache (a re-run meets the same levels)."""
+    level's dense matrices: the final level's, which the result's surface displacements read, and
+    which serves calls that do not use the disk cache) and uses the disk cache (a re-run meets the
+    same levels)."""
     from . import cache  # the disk cache only for BEM bodies (start-up)
 
     frozen = tuple(sorted(inputs.items()))
-    if "element_edges" in inputs:  # the last two graded bodies only: the result's surfaces read them again
-        if frozen in _graded_memo:
+    if "element_edges" in inputs:  # the last two graded bodies kept: the result's surfaces read them again
+        if not use_cache and frozen in _graded_memo:  # with the disk cache, its entry (verified) as before
             return _graded_memo[frozen], "reused in-process"
         found, origin = cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
         _graded_memo[frozen] = found

@@ -88,12 +88,16 @@ def body_displacements(
     """{label: (w, u)} [length] of each deformable body of ``case`` ("A", "B"; a rigid one is left out)
     for the nodal tractions ``p_n``, ``p_t`` [stress] on the plan's contact grid (p_t on A).
     ``pair``: the solved pair's blocks (``S_nn``, ``S_nt``, e.g. the contact system), which serve
-    elastic closed-form half-planes without integrating their kernels again."""
+    elastic closed-form half-planes without integrating their kernels again. Empty when the tractions
+    are not on the plan's grid (a system built on another grid: the bodies' blocks are not at hand)."""
     elastic_halfplane = the_plan.effects.influence == "half-plane" and not viscoelastic_bodies(case)
     if pair is not None and elastic_halfplane:
         found = _elastic_halfplanes(case, pair, p_n, p_t)
         if found is not None:
             return found
+    grid_x = the_plan.grid.x
+    if grid_x.shape != p_n.shape or (pair is not None and not np.array_equal(grid_x, pair.x)):
+        return {}  # solved on another grid than the plan's (pipeline.explicit): no body blocks to apply
     out = {}
     for label in ("A", "B"):
         body = getattr(case.bodies, label)
@@ -109,7 +113,9 @@ def body_displacements(
 
         own, _ = deformable_body(case, the_plan, body, use_cache=False)  # in memory; never the disk cache
         traction = p_t if label == "A" else -p_t
-        coupled = the_plan.effects.coupling  # the pair's cross blocks only where the solve had them
+        # the cross blocks where the solve had them; a finite body's always (its pair's gap and the
+        # power balance take all four, :func:`rolling_cli.influence.finite.finite_pair`)
+        coupled = the_plan.effects.coupling or body.finite
         w = _apply(own.S_nn, p_n) + _apply(own.S_nt if coupled else None, traction)
         u = _apply(own.S_tn if coupled else None, p_n) + _apply(own.S_tt, traction)
         out[label] = (w, u)
