@@ -154,3 +154,17 @@ def test_closed_form_bodies_from_the_pair_equal_each_body_integrated(name):
         scale = np.abs(w).max()
         assert np.abs(fast[label][0] - w).max() <= 1e-12 * scale
         assert np.abs(fast[label][1] - u).max() <= 1e-12 * scale
+
+
+def test_a_sweep_file_leaves_the_displacements_out(tmp_path):
+    """A sweep's rows leave out the four surface variables (``--deformed`` draws single results:
+    four more node arrays per case would grow a sweep file by about half for nothing it can plot);
+    ``rollc plot SWEEP --deformed`` says it needs a single result, exit 2."""
+    out = tmp_path / "study.h5"
+    runner = CliRunner()
+    done = runner.invoke(main, ["-q", "sweep", f"{CASES}/carter.toml", "--set", "friction.mu=0.1,0.2", "-o", str(out)])
+    assert done.exit_code == 0, done.output
+    with h5py.File(out, "r") as handle:
+        assert "p_n" in handle and not any(name.startswith("surface_") for name in handle)
+    refused = runner.invoke(main, ["plot", str(out), "--deformed"])
+    assert refused.exit_code == 2 and "single result" in refused.output

@@ -58,6 +58,10 @@ DATASETS = {
 }
 
 
+#: The surface displacement fields (:mod:`rolling_cli.influence.surface`); a sweep's rows leave them out.
+SURFACES = ("surface_w_A", "surface_u_A", "surface_w_B", "surface_u_B")
+
+
 class ScalarView(MutableMapping):
     """The recorded scalars of a result as a mapping (name -> value), read and written through.
 
