@@ -219,6 +219,8 @@ def plot(result_file, output, show, stresses, deformed, magnify, overwrite):
 
         _imported()
         draw, stem = plot_file, os.path.splitext(result_file)[0]
+        if magnify != 1.0 and not deformed:
+            raise CaseError(f"--magnify {magnify}: allowed only with --deformed")
         if stresses:
             from .report.plot_stresses import plot_stress_file as draw
 

@@ -187,9 +187,9 @@ def deformed_figure(result: Result, magnify: float = 1.0, show: bool = False) ->
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel(f"x [{unit}]")
     ax.set_ylabel(f"y [{unit}]")
-    fig.legend(fontsize=7, loc="outside right upper")
+    fig.legend(fontsize=7, loc="outside lower center", ncols=4)
     scale = "to scale" if magnify == 1.0 else f"displacements x{magnify:g} (surfaces overlap by (K-1) g0 in contact)"
-    ax.set_title(f"{result.title or 'rolling_cli result'}: deformed contact region, {scale}", fontsize=9)
+    ax.set_title(f"{result.title or 'rolling_cli result'}\ndeformed contact region, {scale}", fontsize=9)
     return fig
 
 
