@@ -96,14 +96,20 @@ def deformable_body(case, the_plan, body, use_cache: bool = True, normal_only: b
                 _cylinder_memo.pop(next(iter(_cylinder_memo)))
         found = _cylinder_memo[key]
     elif viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
-        key = (tuple(sorted(inputs.items())), body, float(case.rolling.speed), case.rolling.direction, normal_only)
-        if key not in _layer_memo:  # kept: the result's surface displacements read it again
-            _layer_memo[key] = _viscoelastic_layer(
+        layer_key = (
+            tuple(sorted(inputs.items())),
+            body,
+            float(case.rolling.speed),
+            case.rolling.direction,
+            normal_only,
+        )
+        if layer_key not in _layer_memo:  # kept: the result's surface displacements read it again
+            _layer_memo[layer_key] = _viscoelastic_layer(
                 found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction, normal_only
             )
             if len(_layer_memo) > 2:
                 _layer_memo.pop(next(iter(_layer_memo)))
-        found = _layer_memo[key]
+        found = _layer_memo[layer_key]
     return found, origin
 
 
@@ -189,8 +195,6 @@ _graded_memo: dict[tuple, Compliance] = {}
 _cylinder_memo: dict[tuple, Compliance] = {}
 #: The last viscoelastic layers' compliances (as :data:`_cylinder_memo`, and whether normal-only).
 _layer_memo: dict[tuple, Compliance] = {}
-#: The last two graded BEM bodies (an adaptive level's; :mod:`.surface` reads the final one again).
-_graded_memo: dict[tuple, Compliance] = {}
 
 
 def clear_memo() -> None:
