@@ -205,8 +205,12 @@ def check(case_file):
 @click.option(
     "--stresses", is_flag=True, help="Contour maps of the subsurface stresses (default output: NAME_stresses.png)."
 )
+@click.option(
+    "--deformed", is_flag=True, help="The deformed contact region to scale (default output: NAME_deformed.png)."
+)
+@click.option("--magnify", type=float, default=1.0, show_default=True, help="--deformed: displacements times K.")
 @click.option("--overwrite", is_flag=True, help="Replace an existing figure file.")
-def plot(result_file, output, show, stresses, overwrite):
+def plot(result_file, output, show, stresses, deformed, magnify, overwrite):
     """Plot a result or sweep file (default output: the file's name with .png)."""
 
     def action():
@@ -215,13 +219,21 @@ def plot(result_file, output, show, stresses, overwrite):
 
         _imported()
         draw, stem = plot_file, os.path.splitext(result_file)[0]
+        if magnify != 1.0 and not deformed:
+            raise CaseError(f"--magnify {magnify}: allowed only with --deformed")
         if stresses:
             from .report.plot_stresses import plot_stress_file as draw
 
             stem += "_stresses"
+        elif deformed:
+            from functools import partial
+
+            from .report.plot_deformed import plot_deformed_file
+
+            draw, stem = partial(plot_deformed_file, magnify=magnify), stem + "_deformed"
         if not os.path.exists(result_file):
             raise CaseError("file not found; allowed: a result or sweep file written by rollc", file=result_file)
-        out = output or (None if show else outputs.figure_path(stem + ".h5" if stresses else result_file))
+        out = output or (None if show else outputs.figure_path(stem + ".h5" if stresses or deformed else result_file))
         if out and os.path.splitext(out)[1].lower() not in FORMATS:
             raise CaseError(f"-o {out}: unsupported figure format; allowed: {', '.join(FORMATS)}")
         if out:

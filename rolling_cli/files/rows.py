@@ -80,26 +80,31 @@ class Row:
     units: dict[str, str] | None = None
 
 
-def node_arrays(result) -> dict[str, np.ndarray]:
-    """Every array over the result's nodes: its array fields and the arrays of its dict fields."""
+def node_arrays(result, without: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
+    """Every array over the result's nodes: its array fields (but those named in ``without``) and
+    the arrays of its dict fields."""
     n = result.x.shape
     out = {}
     for name, value in vars(result).items():
-        if isinstance(value, np.ndarray) and value.shape == n:
+        if isinstance(value, np.ndarray) and value.shape == n and name not in without:
             out[name] = value
         elif isinstance(value, dict) and name != "attributes":
             out.update({k: v for k, v in value.items() if isinstance(v, np.ndarray) and v.shape == n})
     return out
 
 
-def row_from_result(result, index: int = 0, coords: dict | None = None, **scalars) -> Row:
-    """The row of a solved case (converged or not); ``scalars`` add or replace per-case values."""
+def row_from_result(
+    result, index: int = 0, coords: dict | None = None, without: tuple[str, ...] = (), **scalars
+) -> Row:
+    """The row of a solved case (converged or not); ``scalars`` add or replace per-case values;
+    ``without``: array fields left out (a sweep's rows leave out the surface displacements)."""
     values = {k: v for k, v in result.attributes.items() if k not in PROVENANCE and k not in GROUP_HOOKS}
     values.update(scalars)
     values["nodes"] = int(result.x.size)
     values["history_rows"] = len(result.history)
     extras = {name: getattr(result, name) for name in GROUP_HOOKS if _present(getattr(result, name, None))}
-    return Row(index, dict(coords or {}), values, node_arrays(result), result.history, extras, result.units)
+    arrays = node_arrays(result, without)
+    return Row(index, dict(coords or {}), values, arrays, result.history, extras, result.units)
 
 
 def _present(payload) -> bool:

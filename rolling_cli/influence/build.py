@@ -96,9 +96,20 @@ def deformable_body(case, the_plan, body, use_cache: bool = True, normal_only: b
                 _cylinder_memo.pop(next(iter(_cylinder_memo)))
         found = _cylinder_memo[key]
     elif viscoelastic_layer(body):  # the rubber cover: the BEM layer (E_g) with its history terms
-        found = _viscoelastic_layer(
-            found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction, normal_only
+        layer_key = (
+            tuple(sorted(inputs.items())),
+            body,
+            float(case.rolling.speed),
+            case.rolling.direction,
+            normal_only,
         )
+        if layer_key not in _layer_memo:  # kept: the result's surface displacements read it again
+            _layer_memo[layer_key] = _viscoelastic_layer(
+                found, the_plan.grid, body, float(case.rolling.speed), case.rolling.direction, normal_only
+            )
+            if len(_layer_memo) > 2:
+                _layer_memo.pop(next(iter(_layer_memo)))
+        found = _layer_memo[layer_key]
     return found, origin
 
 
@@ -156,13 +167,21 @@ def contact_grid(inputs: dict) -> ContactGrid:
 
 def _bem_body(inputs: dict, use_cache: bool) -> tuple[Compliance, str]:
     """A BEM body's compliance: from the in-process memo, the disk cache or computed. A graded
-    grid's (an adaptive level, keyed on its edges) skips the memo, which would keep every level's
-    dense matrices, but uses the disk cache (a re-run meets the same levels)."""
+    grid's (an adaptive level, keyed on its edges) is kept for the last two bodies only (not every
+    level's dense matrices: the final level's, which the result's surface displacements read, and
+    which serves calls that do not use the disk cache) and uses the disk cache (a re-run meets the
+    same levels)."""
     from . import cache  # the disk cache only for BEM bodies (start-up)
 
-    if "element_edges" in inputs:
-        return cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
     frozen = tuple(sorted(inputs.items()))
+    if "element_edges" in inputs:  # the last two graded bodies kept: the result's surfaces read them again
+        if not use_cache and frozen in _graded_memo:  # with the disk cache, its entry (verified) as before
+            return _graded_memo[frozen], "reused in-process"
+        found, origin = cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
+        _graded_memo[frozen] = found
+        if len(_graded_memo) > 2:
+            _graded_memo.pop(next(iter(_graded_memo)))
+        return found, origin
     if frozen in _memo:
         return _memo[frozen], "reused in-process"
     found, origin = cache.cached(inputs, lambda: _compute_bem(inputs), use_cache)
@@ -173,14 +192,20 @@ def _bem_body(inputs: dict, use_cache: bool) -> tuple[Compliance, str]:
 
 
 _memo: dict[tuple, Compliance] = {}
+#: The last two graded BEM bodies (an adaptive level's; :mod:`.surface` reads the final one again).
+_graded_memo: dict[tuple, Compliance] = {}
 #: The last viscoelastic finite cylinders' compliances (body, grid and speed in the key).
 _cylinder_memo: dict[tuple, Compliance] = {}
+#: The last viscoelastic layers' compliances (as :data:`_cylinder_memo`, and whether normal-only).
+_layer_memo: dict[tuple, Compliance] = {}
 
 
 def clear_memo() -> None:
     """Forget the in-process influence memo (benchmarks time cold builds)."""
     _memo.clear()
+    _graded_memo.clear()
     _cylinder_memo.clear()
+    _layer_memo.clear()
     _halfplane.cache_clear()
     _viscoelastic.cache_clear()
     from . import viscoelastic

@@ -37,15 +37,15 @@ def _attach_stresses(case: Case, the_plan: Plan, result: Result) -> Result:
     return attach(case, the_plan, result)
 
 
-def _finite_surface(case: Case, the_plan: Plan, p_n: np.ndarray, p_t: np.ndarray):
-    """A finite body A's surface displacements w (into it) and u (along its arc) [length], from its
-    own compliance (memoised: the one solved), all four blocks."""
-    from ..influence.build import deformable_body
+def _surfaces(case: Case, the_plan: Plan, system: ContactSystem, p_n: np.ndarray, p_t: np.ndarray) -> dict:
+    """Each deformable body's surface displacements {label: (w, u)} [length] from its own compliance
+    (:mod:`rolling_cli.influence.surface`; a BEM body's memoised: the one solved); empty when the
+    tractions are empty."""
+    if p_n.size == 0:
+        return {}
+    from ..influence.surface import body_displacements
 
-    body, _ = deformable_body(case, the_plan, case.bodies.A)
-    if body.S_nt is None or body.S_tn is None:
-        return None
-    return body.S_nn @ p_n + body.S_nt @ p_t, body.S_tn @ p_n + body.S_tt @ p_t
+    return body_displacements(case, the_plan, p_n, p_t, system)
 
 
 def _linear_solver_attributes(system: ContactSystem, history: list[dict]) -> dict:
@@ -125,10 +125,11 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     attrs.update(_friction_attributes(case, solution if effects.tangential and converged else None, found))
     attrs.update(found)
     attrs.update(shaft_quantities(case, system.x, w, p_n, p_t, centre, half_width))  # finite cylinders (else NaN)
+    surfaces = _surfaces(case, the_plan, system, p_n, p_t)  # each body's (w, u): the result and the power balance
     if is_viscoelastic(a) or is_viscoelastic(b):  # rolling resistance, pressure shift, hysteresis (none if elastic)
         from ..model import resistance
 
-        surface = _finite_surface(case, the_plan, p_n, p_t) if resistance.finite_on_flat(case) else None
+        surface = surfaces.get("A") if resistance.finite_on_flat(case) else None  # A's (w, u) on its arc
         attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius, surface))
     reference = _closed_forms(case, system.x, the_plan.radius, q, load, ref_a, ref_p0, attrs)
     result = Result(
@@ -143,6 +144,7 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
         reference=reference,
         case=case,
         frictional_power=dissipation,
+        **{f"surface_{c}_{label}": v for label, wu in surfaces.items() for c, v in zip("wu", wu, strict=True)},
     )
     result.record(**attrs)
     return result

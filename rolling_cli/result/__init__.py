@@ -44,7 +44,22 @@ DATASETS = {
     "s_t": ("slip velocity of A relative to B divided by |V|", "1"),
     "state": ("contact state: 0 separation, 1 adhesion, 2 slip", "1"),
     "frictional_power": ("frictional power density per unit rolling speed, -p_t s_t (>= 0, dissipated)", "stress"),
+    **{
+        f"surface_{c}_{label}": (
+            f"surface displacement of body {label} {what} (rolling_cli.influence.surface)",
+            "length",
+        )
+        for label in ("A", "B")
+        for c, what in (
+            ("w", "into the body (its arc's inward normal for a finite cylinder), from the model's datum"),
+            ("u", "along +x (a finite cylinder's arc tangent, B's in its mirror frame)"),
+        )
+    },
 }
+
+
+#: The surface displacement fields (:mod:`rolling_cli.influence.surface`); a sweep's rows leave them out.
+SURFACES = ("surface_w_A", "surface_u_A", "surface_w_B", "surface_u_B")
 
 
 class ScalarView(MutableMapping):
@@ -130,6 +145,10 @@ class Result(
     reference: dict[str, np.ndarray] = field(default_factory=dict)
     case_toml: str | None = None  # the resolved input case as TOML; None: written from ``case`` when first read
     frictional_power: np.ndarray | None = None  # [stress], rolling_cli.stresses.power
+    surface_w_A: np.ndarray | None = None  # [length] each deformable body's surface displacements,
+    surface_u_A: np.ndarray | None = None  # rolling_cli.influence.surface (None: rigid, or an old file)
+    surface_w_B: np.ndarray | None = None
+    surface_u_B: np.ndarray | None = None
     stresses: dict = field(default_factory=dict)  # body label -> rolling_cli.stresses.compute.BodyStresses
     swept: dict[str, Any] = field(default_factory=dict)  # dotted key -> value, for a sweep's case
     case: object = field(default=None, repr=False, compare=False)  # the Case of the final mesh level, if solved here

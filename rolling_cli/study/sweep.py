@@ -50,7 +50,7 @@ from ..files.io_hdf5 import root_attributes
 from ..files.reader import plain
 from ..files.rows import row_from_failure, row_from_result
 from ..files.writer import ResultFile
-from ..result import utc_timestamp
+from ..result import SURFACES, utc_timestamp
 from . import workers as local_workers
 from .chunk import (  # noqa: F401  (the sweep API: chunks are solved there)
     CHUNK,
@@ -224,7 +224,9 @@ class _Sink:
         start = time.perf_counter()
         if record.result is not None:
             message = record.message or record.result.attributes.get("message", "")
-            row = row_from_result(record.result, record.index, record.values, time=record.seconds, message=message)
+            row = row_from_result(  # no surface displacements (rollc plot --deformed draws single results)
+                record.result, record.index, record.values, SURFACES, time=record.seconds, message=message
+            )
         else:
             row = row_from_failure(record.index, record.values, record.message, record.seconds)
         self.writer.add(row)
