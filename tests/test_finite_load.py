@@ -211,3 +211,16 @@ def test_sensitivities_match_resolved_differences(force, normal):
     assert len(compared) >= 3, checks
     for check in compared:
         assert check.error <= TOLERANCE, check
+
+
+def test_friction_carries_mu_times_the_arc_sum_not_the_shaft_load():
+    """Q/(mu P) with P the shaft load may reach 1 while the cylinders still roll: friction carries mu
+    times the arc sum of the pressure, above the shaft load here (the pressure's cos theta), so the
+    case solves in partial slip instead of being refused before any work as gross sliding."""
+    data = _case(_roller(), RIGID_FLAT, **{"normal.load": 8.0, "tangential.q_over_mu_p": 1.0})
+    result = pipeline.solve(load_case(data))
+    arc = result.attributes["arc_load"]
+    assert arc > 1.005 * result.normal_load  # the capacity exceeds mu P by more than the solver's tolerance
+    assert result.tangential_load == pytest.approx(0.3 * result.normal_load, rel=1e-9)
+    assert np.any(result.state == 1)  # an adhesion zone remains: rolling, not sliding
+    assert_contact_laws(result)

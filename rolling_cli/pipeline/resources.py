@@ -370,7 +370,17 @@ def body_mesh_size(case, the_plan, body) -> tuple[int, int]:
     if inputs.get("shape") == "cylinder":  # the annulus (its mesh counted from its edges alone)
         from ..influence.bem.cylinder import annulus_size
 
-        return annulus_size(inputs["zone_half_width"], inputs["elements"], inputs["radius"], inputs["inner_radius"])
+        nodes, elements = annulus_size(
+            inputs["zone_half_width"], inputs["elements"], inputs["radius"], inputs["inner_radius"]
+        )
+        if "core_young" in inputs:  # an elastic core: its own whole system, the interface and its bore
+            from ..influence.bem.core import BORE_ELEMENTS
+
+            core, bore = float(inputs["inner_radius"]), float(inputs["core_bore"])
+            count = max(BORE_ELEMENTS, int(math.ceil(2.0 * math.pi * bore / (core - bore))))
+            # (the core is solved whole: the model, built for mirror halves, reads it low)
+            nodes, elements = nodes + 2 * count + 1, elements + count
+        return nodes, elements
     largest = inputs["depth"] if inputs["kind"] == "layered" else None
     return rectangle_size(inputs["zone_half_width"], inputs["elements"], inputs["half_width"], inputs["depth"], largest)
 

@@ -423,8 +423,11 @@ def _mirror_pairs(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     1e-12 of the points' extent (binned; a pair that rounding puts in two bins stays unpaired)."""
     scale = 1e-12 * float(np.abs(points).max())
     key = np.round(points / scale).astype(np.int64)
-    code = key[:, 0] * (2 * int(np.abs(key[:, 1]).max()) + 3) + key[:, 1]  # one integer per bin
-    mirror_code = -key[:, 0] * (2 * int(np.abs(key[:, 1]).max()) + 3) + key[:, 1]
+    n = key.shape[0]
+    # one integer per bin, for the points' bins and their mirrors' together (row ranks: no overflow)
+    _, rank = np.unique(np.concatenate([key, key * np.array([-1, 1])]), axis=0, return_inverse=True)
+    rank = rank.reshape(-1)
+    code, mirror_code = rank[:n], rank[n:]
     order = np.argsort(code)
     found = np.clip(np.searchsorted(code[order], mirror_code), 0, code.size - 1)
     j = order[found]
