@@ -111,13 +111,30 @@ def _targets(target: float) -> list[float]:
     return [float(v) for v in np.linspace(0.0, target, STEPS + 1)[1:]]
 
 
-#: The creepages, as factors of the task's, from which :func:`nudged` walks to it.
-NUDGES = (0.97, 1.03)
+#: The creepages, as factors of the task's, from which :func:`nudged` walks to it, in order: each
+#: tried from the start handed on (issue 23's case, 417 elements, the four creepages of 41 that the
+#: first two left failing: 0.016 converged from 1.05 and 1.1, 0.029 from 0.97 and 1.1, 0.031 from
+#: 1.03, 0.040 from 0.94; benchmarks/RESULTS.md, "the last failures").
+NUDGES = (0.97, 1.03, 0.94, 1.06, 0.9, 1.1)
 
 
-def nudged(task: Task, start: State, budget: Budget, cold: bool = False) -> Solution:
-    """:data:`NEWTON` at a creepage a few per cent off the task's (each of :data:`NUDGES`) from
-    ``start``, then at the task's from that solution (creepage control of a coupled task).
+#: Newton iterations a nudged creepage may take before the next is tried: converged ones took 9-38
+#: (the four creepages above), failing ones cycle for 15-80 before the stagnation test stops them.
+NUDGE_ITERATIONS = 40
+
+
+def _capped(budget: Budget, most: int) -> Budget:
+    """A budget of at most ``most`` more iterations sharing ``budget``'s count and history (the
+    caller copies its count back)."""
+    return Budget(min(budget.limit, budget.taken + most), budget.taken, budget.history)
+
+
+def nudged(task: Task, start: State, budget: Budget, cold: bool = False, origin: State | None = None) -> Solution:
+    """:data:`NEWTON` at a creepage a few per cent off the task's (each of :data:`NUDGES` in turn,
+    at most :data:`NUDGE_ITERATIONS` each) from ``origin`` (the level's own start: a failed Newton's
+    best iterate, which a chain hands on, has the fragmented node states; ``start`` when None), then from that solution the creepage path
+    (the continuation driver, its step halved on a failure) to the task's (creepage control of a
+    coupled task).
 
     For a start transferred from a coarser grid whose Newton cycles at the stick/slip boundary: on
     issue 23's case (417 elements, xi = 0.016) Newton from the 104-element solution alternated
@@ -128,17 +145,52 @@ def nudged(task: Task, start: State, budget: Budget, cold: bool = False) -> Solu
     if not applies(task) or target == 0.0:
         return NEWTON(task, start, budget, cold=cold)
     failure = None
+    start = start if origin is None else origin
     for factor in NUDGES:
         guess = start.copy()
         guess.creep = factor * target
+        trial = _capped(budget, NUDGE_ITERATIONS)
         try:
-            near = NEWTON(_at_creep(task, factor * target), guess, budget, cold=cold)
-            guess = near.state.copy()
-            guess.creep = target
-            return NEWTON(task, guess, budget)
+            near = NEWTON(_at_creep(task, factor * target), guess, trial, cold=cold)
         except StrategyFailed as err:
             failure = err
-            if budget.exhausted:
-                break
+            continue
+        finally:
+            budget.taken = trial.taken
+        if budget.exhausted:
+            break
+        try:
+            return _walk(task, factor * target, near, budget)
+        except StrategyFailed as err:
+            failure = err
+        if budget.exhausted:
+            break
     assert failure is not None
     raise StrategyFailed("nudged", failure.stage, failure.reason, failure.best, failure.residual) from None
+
+
+def _walk(task: Task, xi: float, near: Solution, budget: Budget) -> Solution:
+    """From ``near`` (the solution at creepage ``xi``) to the task's creepage by :data:`NEWTON`,
+    halving the step after a failure (:func:`continuation.follow`)."""
+
+    def solve_at(value: float, guess: State) -> tuple[Solution, int]:
+        before = budget.taken
+        guess = guess.copy()
+        guess.creep = value
+        return NEWTON(_at_creep(task, value), guess, budget), budget.taken - before
+
+    points = [(xi, near)]
+    try:
+        continuation.follow(
+            [task.controls.tangential[1]],
+            solve_at,
+            lambda points, _s: points[-1][1].state.copy(),
+            points,
+            failure=StrategyFailed,
+            control=continuation.StepControl(easy=8, min_fraction=1.0 / 8.0),
+            budget=budget,
+        )
+    except continuation.ContinuationFailed as err:
+        best = err.best.state if err.best is not None else None
+        raise StrategyFailed("nudged", f"xi = {err.parameter:.4g}", err.reason, best, err.residual) from None
+    return points[-1][1]
