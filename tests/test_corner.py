@@ -90,3 +90,31 @@ def test_weakly_coupled_cases_keep_their_zone():
     assert widened.discretization.zone == corner_rules.CORNER_ZONE
     # the same element length: 40 elements on 1.5 a, 67 on 2.5 a (rounded up)
     assert widened.discretization.contact_elements == math.ceil(40 * corner_rules.CORNER_ZONE / 1.5)
+
+
+def test_a_warm_started_sweep_shares_a_system_on_the_corners_zone(curve):
+    """``rollc sweep`` solves its cases on one contact system built once (``pipeline.prepare``): for a
+    strongly coupled case it is on the corner's zone, as a solve alone takes it, so the cases do not
+    grow their zone level by level. Along a creepage sweep, warm-started, every case converges, and
+    at xi = 0.03 it agrees with the cold solve alone (another path to the same discrete solution)."""
+    from rolling_cli import pipeline
+    from rolling_cli.study.path import CasePath
+
+    base = load_case(corner())
+    the_plan, system = pipeline.prepare(base)
+    assert the_plan.grid.x.shape == system.x.shape
+    # the end nodes sit within one element of the zone's ends, +-2.5 a
+    assert system.x[-1] - system.x[0] >= 2.0 * (corner_rules.CORNER_ZONE * the_plan.half_width - system.spacing)
+    path = CasePath(system)
+    results = {}
+    for xi in (0.01, 0.02, 0.03):
+        results[xi] = path.solve(load_case(corner(**{"tangential.creep": xi})), {"tangential.creep": xi})
+    for xi, result in results.items():
+        assert_contact_laws(result, result.tolerance_applied)
+        assert result.x.shape == system.x.shape  # solved on the shared system: no enlarged zone
+        assert result.attributes["start"] == ("cold" if xi == 0.01 else "warm")
+    alone = curve[0.03]
+    # both meet their residuals to tol mu P on the same grid: Q agrees to 2 tol mu P, times 10 for the
+    # stick/slip node states' rounding (as the force-control test above)
+    tol = max(alone.tolerance_applied, results[0.03].tolerance_applied)
+    assert abs(results[0.03].tangential_load - alone.tangential_load) <= 10.0 * 2.0 * tol * alone.mu * alone.normal_load
