@@ -132,9 +132,9 @@ def _capped(budget: Budget, most: int) -> Budget:
 def nudged(task: Task, start: State, budget: Budget, cold: bool = False, origin: State | None = None) -> Solution:
     """:data:`NEWTON` at a creepage a few per cent off the task's (each of :data:`NUDGES` in turn,
     at most :data:`NUDGE_ITERATIONS` each) from ``origin`` (the level's own start: a failed Newton's
-    best iterate, which a chain hands on, has the fragmented node states; ``start`` when None), then from that solution the creepage path
-    (the continuation driver, its step halved on a failure) to the task's (creepage control of a
-    coupled task).
+    best iterate, which a chain hands on, has the fragmented node states; ``start`` when None), then
+    from that solution the creepage path (the continuation driver, its step halved on a failure) to
+    the task's (creepage control of a coupled task).
 
     For a start transferred from a coarser grid whose Newton cycles at the stick/slip boundary: on
     issue 23's case (417 elements, xi = 0.016) Newton from the 104-element solution alternated
