@@ -53,7 +53,7 @@ def solve(
     steps: contextlib.AbstractContextManager = contextlib.nullcontext()
     if corner is not None and corner_path.applies(task):
         path = functools.partial(corner_path.creep_path, origin=corner)
-        first = [path] if cold else [corner_path.NEWTON, functools.partial(corner_path.nudged, origin=start)]
+        first = [path] if cold else corner_path.warm_chain(start)
         strategy = strategies.first_success(*first, strategy, name=task.formulation)
         if task.system.matrix_free:
             from .matrix_free import exact_steps

@@ -15,6 +15,7 @@ against 11 of 11 on 104 coarse elements), by the continuation driver that the co
 from __future__ import annotations
 
 import dataclasses
+import functools
 
 import numpy as np
 
@@ -129,9 +130,17 @@ def _capped(budget: Budget, most: int) -> Budget:
     return Budget(min(budget.limit, budget.taken + most), budget.taken, budget.history)
 
 
-def nudged(task: Task, start: State, budget: Budget, cold: bool = False, origin: State | None = None) -> Solution:
-    """:data:`NEWTON` at a creepage a few per cent off the task's (each of :data:`NUDGES` in turn,
-    at most :data:`NUDGE_ITERATIONS` each) from ``origin`` (the level's own start: a failed Newton's
+def nudged(
+    task: Task,
+    start: State,
+    budget: Budget,
+    cold: bool = False,
+    origin: State | None = None,
+    factors: tuple[float, ...] = NUDGES,
+    most: int | None = NUDGE_ITERATIONS,
+) -> Solution:
+    """:data:`NEWTON` at a creepage a few per cent off the task's (each of ``factors`` in turn, at
+    most ``most`` iterations each, None: no cap) from ``origin`` (the level's own start: a failed Newton's
     best iterate, which a chain hands on, has the fragmented node states; ``start`` when None), then
     from that solution the creepage path (the continuation driver, its step halved on a failure) to
     the task's (creepage control of a coupled task).
@@ -146,10 +155,10 @@ def nudged(task: Task, start: State, budget: Budget, cold: bool = False, origin:
         return NEWTON(task, start, budget, cold=cold)
     failure = None
     start = start if origin is None else origin
-    for factor in NUDGES:
+    for factor in factors:
         guess = start.copy()
         guess.creep = factor * target
-        trial = _capped(budget, NUDGE_ITERATIONS)
+        trial = budget if most is None else _capped(budget, most)
         try:
             near = NEWTON(_at_creep(task, factor * target), guess, trial, cold=cold)
         except StrategyFailed as err:
@@ -194,3 +203,13 @@ def _walk(task: Task, xi: float, near: Solution, budget: Budget) -> Solution:
         best = err.best.state if err.best is not None else None
         raise StrategyFailed("nudged", f"xi = {err.parameter:.4g}", err.reason, best, err.residual) from None
     return points[-1][1]
+
+
+def warm_chain(start: State) -> list:
+    """The corner's first strategies for a warm level from ``start`` (a coarser grid's solution):
+    :data:`NEWTON`; :func:`nudged` from its best iterate at 0.97 and 1.03 of the creepage, uncapped;
+    :func:`nudged` from ``start`` at every one of :data:`NUDGES`, capped. Issue 23's case, 41
+    creepages at mu |beta| = 1.09: the first two alone converged 37 of 41 (xi = 0.035 by the second,
+    594 iterations); the first and third alone converged the four others but lost 0.035
+    (benchmarks/RESULTS.md, "the last failures")."""
+    return [NEWTON, functools.partial(nudged, factors=NUDGES[:2], most=None), functools.partial(nudged, origin=start)]
