@@ -67,11 +67,9 @@ def corner_zone(case: Case, the_plan: Plan) -> Case:
 
 
 def corner_start(level: Level, system: ContactSystem) -> State | None:
-    """For a level under creepage control with mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`,
-    the closed-form start at xi = 0 (where
-    :func:`~rolling_cli.solver.corner.creep_path` begins); else None."""
-    if level.case.tangential.control()[0] != "creep":
-        return None
+    """For a level with mu |beta| above :data:`~rolling_cli.solver.corner.STRONG`, the closed-form
+    start at xi = 0 (where :func:`~rolling_cli.solver.corner.creep_path` and, under force control,
+    :func:`~rolling_cli.solver.corner.force_path` begin); else None."""
     if not strongly_coupled(level.case, level.plan, corner_path.STRONG):
         return None
     return initial_state(with_overrides(level.case, {"tangential.creep": 0.0}), level.plan, system)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 
 import numpy as np
 
@@ -213,3 +214,72 @@ def warm_chain(start: State) -> list:
     594 iterations); the first and third alone converged the four others but lost 0.035
     (benchmarks/RESULTS.md, "the last failures")."""
     return [NEWTON, functools.partial(nudged, factors=NUDGES[:2], most=None), functools.partial(nudged, origin=start)]
+
+
+def applies_force(task: Task) -> bool:
+    """Whether :func:`force_path` is a path for ``task``: a coupled Coulomb solve under force control."""
+    return task.formulation == "coupled" and task.friction is None and task.controls.force is not None
+
+
+class _Crossed(Exception):
+    """The creepage path of :func:`force_path` passed the force between two solutions."""
+
+    def __init__(self, bracket: tuple) -> None:
+        self.bracket = bracket
+        super().__init__("crossed")
+
+
+def force_path(task: Task, start: State, budget: Budget, cold: bool = False, origin: State | None = None) -> Solution:
+    """Force control of a strongly coupled task by the creepage path: from xi = 0 (``origin``, else
+    ``start`` without traction) towards three times ``start``'s creepage (the closed-form estimate for
+    the force) in steps of 1/:data:`STEPS` of it, each by :data:`NEWTON` from the last (the step
+    halved after a failure), until Q passes the prescribed force; then :data:`NEWTON` under force
+    control from the nearer of the two with the creepage interpolated linearly between them."""
+    estimate = float(start.creep)
+    if not applies_force(task) or estimate == 0.0:
+        return NEWTON(task, start, budget, cold=cold)
+    guess = (start if origin is None else origin).copy()
+    if origin is None:
+        guess.p_t = np.zeros_like(guess.p_t)
+    guess.creep = 0.0
+    weights = task.system.weights
+    try:
+        first = NEWTON(_at_creep(task, 0.0), guess, budget, cold=cold)
+    except StrategyFailed as err:
+        raise StrategyFailed("force path", "xi = 0", err.reason, err.best, err.residual) from None
+    target = task.problem(task.full_mode).force_target(first.state.p_n)[0]
+    points = [(0.0, first)]
+
+    def miss(solution: Solution) -> float:
+        return float(weights @ solution.state.p_t) - target
+
+    def solve_at(xi: float, guess: State) -> tuple[Solution, int]:
+        before = budget.taken
+        guess = guess.copy()
+        guess.creep = xi
+        here = NEWTON(_at_creep(task, xi), guess, budget)
+        if miss(here) * miss(points[-1][1]) <= 0.0:
+            raise _Crossed((points[-1], (xi, here)))
+        return here, budget.taken - before
+
+    targets = [k * estimate / STEPS for k in range(1, 3 * STEPS + 1)]
+    try:
+        continuation.follow(
+            targets,
+            solve_at,
+            lambda points, _s: points[-1][1].state.copy(),
+            points,
+            failure=StrategyFailed,
+            control=continuation.StepControl(easy=8),
+            budget=budget,
+        )
+    except _Crossed as crossed:
+        (xi_0, one), (xi_1, other) = crossed.bracket
+        m0, m1 = miss(one), miss(other)
+        guess = (other if abs(m1) <= abs(m0) else one).state.copy()
+        guess.creep = xi_0 + (xi_1 - xi_0) * m0 / (m0 - m1)
+        return NEWTON(task, guess, budget)
+    except continuation.ContinuationFailed as err:
+        best = err.best.state if err.best is not None else None
+        raise StrategyFailed("force path", f"xi = {err.parameter:.4g}", err.reason, best, err.residual) from None
+    raise StrategyFailed("force path", f"xi = {points[-1][0]:.4g}", "the force was not reached", None, math.nan)
