@@ -8,6 +8,7 @@ xi, Q/(mu P) and the Newton iterations, or the failure. Does Q(xi) fold (which w
 control without a solution), or is it monotone where it converges?
 
     python benchmarks/corner_curve.py [--points 41] [--xi-max 0.04] [--mu 2.2376] [--force -0.7897,-0.85,-0.95]
+                                      [--elements 250]
 
 ``--mu`` moves the case along mu |beta_Dundurs| (|beta| = 0.488: mu 1.229 .. 3.072 for 0.6 .. 1.5; the
 creepage range then scales with mu, 0.04 mu / 2.2376 unless ``--xi-max``); ``--force`` also solves
@@ -49,9 +50,10 @@ def main() -> None:
     parser.add_argument("--xi-max", type=float, default=None)
     parser.add_argument("--mu", type=float, default=2.2376)
     parser.add_argument("--force", default="")
+    parser.add_argument("--elements", type=int, default=250, help="contact elements on the 1.5 a zone")
     args = parser.parse_args()
     xi_max = args.xi_max if args.xi_max is not None else 0.04 * args.mu / 2.2376
-    base = with_overrides(load_case(CASE), {"friction.mu": args.mu})
+    base = with_overrides(load_case(CASE), {"friction.mu": args.mu, "discretization.contact_elements": args.elements})
     t0 = time.perf_counter()
     converged = []
     iterations = 0

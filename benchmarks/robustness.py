@@ -29,8 +29,23 @@ Part 4, thin incompressible layers near full slip (``--thin-layers``, issue
 material), overlaps 0.0085-0.011 (a = 1.44-1.64), mu = 0.1, 200 elements, BEM,
 Q/(mu P) = 0.7, 0.8, 0.9, 0.95 in both rolling directions (40 fixed cases).
 
+Part 5, falling friction (``--laws N``, issue 23): similar steel cylinders or aluminium on steel
+(R = 20-500), a law drawn from linear, rational, exponential and Polach's (mu_static 0.1-0.6,
+mu_kinetic / mu_static 0.3-0.9, s_h 10-1000 mm/s; Polach: A 0.3-0.9, B 1e-3-0.1 s/mm) at |V| =
+45000 mm/s (as cases/falling_exponential.toml), loaded by force (Q/(mu_static P) +-0.98 or uniform)
+or by creepage (uniform within 1.5 times Carter's full-slip creepage), 20-100 elements, half-plane.
+
+Part 6, the strongly coupled corner (``--corner N``, issue 23 item 4): issue 23's bodies (a stiff
+roller on a soft, compressible flat, |beta_Dundurs| = 0.488) with mu for mu |beta| uniform in
+0.6-1.5, loaded by force (Q/(mu P) uniform in +-0.98) or by creepage (uniform within 1.2 times the
+corner's full-slip creepage, 0.04 mu / 2.2376), either rolling direction, 20-80 elements, half-plane.
+
+In parts 5 and 6 a case also passes when a force-controlled solve fails with the message that the
+creep-force curve turns before the force (no steady solution there): "converges or reports its
+turning point". Velocity laws are checked with mu(s_a) at every node (tests/test_friction_laws.py).
+
     python benchmarks/robustness.py [--seeds 1,2,3,4,5,6,7] [--cases 400] [--layers 200] [--small-mu 20]
-                                    [--thin-layers] [--skip-half-spaces]
+                                    [--thin-layers] [--laws 40] [--corner 10] [--skip-half-spaces]
 """
 
 from __future__ import annotations
@@ -173,14 +188,95 @@ def thin_layer_cases() -> list[dict]:
     ]
 
 
+#: Part 5's laws: the keys beyond mu_static, drawn by :func:`random_law_case`.
+VELOCITY_LAWS = ("linear", "rational", "exponential", "polach")
+#: Part 5's rolling speed |V| [mm/s] (cases/falling_exponential.toml).
+LAW_SPEED = 45000.0
+
+
+def _control(rng: random.Random, force: bool, full_slip: float) -> dict:
+    """Force control (Q/(mu P) +-0.98 or uniform) or creepage control (uniform within ``full_slip``)."""
+    if force:
+        return {"q_over_mu_p": rng.choice([-0.98, 0.98, rng.uniform(-0.98, 0.98)])}
+    return {"creep": rng.uniform(-full_slip, full_slip)}
+
+
+def random_law_case(rng: random.Random) -> tuple[dict, float]:
+    """A falling-friction case (part 5) and its mu_static |beta_Dundurs| (0 for similar bodies)."""
+    from rolling_cli.model import materials
+
+    law = rng.choice(VELOCITY_LAWS)
+    mu_static = rng.uniform(0.1, 0.6)
+    friction = {"law": law, "mu_static": mu_static}
+    if law == "polach":
+        friction |= {"polach_a": rng.uniform(0.3, 0.9), "polach_b": _log_uniform(rng, 1e-3, 0.1)}
+    else:
+        friction |= {"mu_kinetic": mu_static * rng.uniform(0.3, 0.9), "slip_velocity_half": _log_uniform(rng, 10, 1e3)}
+    radius = _log_uniform(rng, 20.0, 500.0)
+    similar = rng.random() < 0.5
+    body_a = dict(helpers.CARTER["bodies"]["A"] if similar else helpers.ALUMINIUM, radius=radius)
+    body_b = dict(helpers.CARTER["bodies"]["B"] if similar else helpers.STEEL, radius=radius)
+    data = case_dict(**{"bodies.A": body_a, "bodies.B": body_b})
+    data["friction"] = friction
+    data["normal"] = {"load": _log_uniform(rng, 100.0, 3000.0)}
+    estar = 1.0 / sum((1.0 - b["poisson"] ** 2) / b["young"] for b in (body_a, body_b))
+    a = math.sqrt(4.0 * data["normal"]["load"] * (radius / 2.0) / (math.pi * estar))  # Hertz
+    data["tangential"] = _control(rng, rng.random() < 0.5, 1.5 * mu_static * a / (radius / 2.0))
+    data["rolling"] = {"direction": rng.choice([-1, 1]), "speed": LAW_SPEED}
+    data["units"] = {"time": "s"}
+    data["discretization"] |= {"contact_elements": rng.randint(20, 100), "influence": "half-plane"}
+    beta = materials.dundurs_beta(body_a["young"], body_a["poisson"], body_b["young"], body_b["poisson"])
+    return data, mu_static * abs(beta)
+
+
+#: Issue 23's corner: its bodies, load and mu |beta_Dundurs| = 1.09 at mu = 2.2376 (part 6).
+CORNER_BODIES = {
+    "A": {"kind": "elastic", "radius": 485.0, "young": 991164.5, "poisson": 0.2730},
+    "B": {"kind": "elastic", "radius": math.inf, "young": 396.505, "poisson": 0.02223},
+}
+CORNER_MU, CORNER_COUPLING = 2.2376, 1.09
+
+
+def random_corner_case(rng: random.Random) -> tuple[dict, float]:
+    """A strongly coupled case of issue 23's bodies (part 6) and its mu |beta_Dundurs|."""
+    coupling = rng.uniform(0.6, 1.5)
+    mu = CORNER_MU * coupling / CORNER_COUPLING
+    force = rng.random() < 0.5
+    data = case_dict(
+        **{
+            "bodies.A": dict(CORNER_BODIES["A"]),
+            "bodies.B": dict(CORNER_BODIES["B"]),
+            "friction.mu": mu,
+            "normal.load": 43.863,
+            "rolling.direction": rng.choice([-1, 1]),
+            "discretization.contact_elements": rng.randint(20, 80),
+            "discretization.influence": "half-plane",
+        }
+    )
+    data["tangential"] = _control(rng, force, 1.2 * 0.04 * mu / CORNER_MU)
+    return data, coupling
+
+
+def turning_point_reported(data: dict, err: Exception) -> bool:
+    """A force-controlled solve that failed saying the creep-force curve turns before the force."""
+    return "q_over_mu_p" in data["tangential"] and "the creep-force curve turns at" in str(err)
+
+
 def check(data: dict) -> int:
     """Solve ``data`` cold with the defaults, check the contact laws and the force balance at the
     tolerance the solve applied; returns the iterations (all mesh levels together)."""
     with np.errstate(divide="raise", over="raise", invalid="raise", under="ignore"):
         r = solve(data)
-        assert_contact_laws(r, r.tolerance_applied)
+        if data["friction"].get("law", "constant") == "constant":
+            assert_contact_laws(r, r.tolerance_applied)
+        else:
+            from test_friction_laws import assert_contact_laws_with_law
+
+            assert_contact_laws_with_law(r)
         load = data["normal"].get("load")
-        q = data["tangential"]["q_over_mu_p"] * data["friction"]["mu"] * (load or r.normal_load)
+        ratio = data["tangential"].get("q_over_mu_p")
+        mu = data["friction"].get("mu", data["friction"].get("mu_static"))
+        q = None if ratio is None else ratio * mu * (load or r.normal_load)
         assert_force_balance(r, load=load, q=q, tolerance=r.tolerance_applied)
         return r.iterations_total
 
@@ -216,31 +312,39 @@ def run_fixed(cases: list[dict], label: str) -> collections.Counter:
 def run(draw, seeds: list[int], cases: int, label: str) -> collections.Counter:
     """Solve ``cases`` draws per seed; print one table row per seed and every failure."""
     print(f"\n{label}\n")
-    print("| seed | cases | failed | median iterations | p90 | max | total | time [s] |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|")
+    print("| seed | cases | failed | turning point reported | median iterations | p90 | max | total | time [s] |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     totals = collections.Counter()
     failures = []
+    turning: list[tuple] = []
     for seed in seeds:
         rng = random.Random(seed)
         iterations = []
-        failed = 0
+        failed = turned = 0
         t0 = time.perf_counter()
         for k in range(cases):
             data, coupling = draw(rng)
             try:
                 iterations.append(check(data))
             except Exception as err:  # every failure is counted and listed, whatever its type
+                if turning_point_reported(data, err):
+                    totals["turning point reported"] += 1
+                    turning.append((seed, k, coupling, str(err)[:160]))
+                    turned += 1
+                    continue
                 failed += 1
                 totals[type(err).__name__] += 1
                 failures.append((seed, k, coupling, type(err).__name__, str(err)[:240]))
         its = np.array(iterations or [0])
         print(
-            f"| {seed} | {cases} | {failed} | {np.median(its):.0f} | {np.percentile(its, 90):.0f} | {its.max()} "
-            f"| {its.sum()} | {time.perf_counter() - t0:.0f} |",
+            f"| {seed} | {cases} | {failed} | {turned} | {np.median(its):.0f} | {np.percentile(its, 90):.0f} "
+            f"| {its.max()} | {its.sum()} | {time.perf_counter() - t0:.0f} |",
             flush=True,
         )
     for seed, k, coupling, kind, message in failures:
         print(f"- seed {seed}, case {k} (mu |beta_Dundurs| = {coupling:.3g}): {kind}: {message}")
+    for seed, k, coupling, message in turning:
+        print(f"- seed {seed}, case {k} (mu |beta_Dundurs| = {coupling:.3g}): turning point: {message}")
     print(f"\nfailures by type: {dict(totals) or 'none'}")
     return totals
 
@@ -252,6 +356,8 @@ def main() -> None:
     parser.add_argument("--layers", type=int, default=0, help="layer cases per seed (part 2); 0 skips it")
     parser.add_argument("--small-mu", type=int, default=0, help="small-friction cases per seed (part 3); 0 skips it")
     parser.add_argument("--thin-layers", action="store_true", help="the thin-layer cases (part 4)")
+    parser.add_argument("--laws", type=int, default=0, help="falling-friction cases per seed (part 5); 0 skips it")
+    parser.add_argument("--corner", type=int, default=0, help="strongly coupled cases per seed (part 6); 0 skips it")
     parser.add_argument("--skip-half-spaces", action="store_true", help="skip part 1")
     args = parser.parse_args()
     logging.disable(logging.WARNING)  # zone enlargements are expected here; the table counts outcomes
@@ -264,6 +370,10 @@ def main() -> None:
         run(random_small_mu_case, seeds, args.small_mu, "Part 3: small friction (1e-4 to 1e-2), coupled, near slip")
     if args.thin_layers:
         run_fixed(thin_layer_cases(), "Part 4: thin incompressible layer near full slip, by overlap")
+    if args.laws:
+        run(random_law_case, seeds, args.laws, "Part 5: falling friction laws, by force or creepage")
+    if args.corner:
+        run(random_corner_case, seeds, args.corner, "Part 6: the strongly coupled corner, mu |beta| 0.6-1.5")
 
 
 if __name__ == "__main__":

@@ -319,7 +319,10 @@ def test_strongly_coupled_cases_converge(bodies, mu, load, q, direction, element
     r = solve(data)
     _check(r, load=load, q=q * mu * load)
     assert ("zone_note" in r.attributes) == enlarged
-    assert "direct, monotone" in r.strategies or "creep root" in r.strategies  # a fallback was needed
+    # a fallback was needed on the 1.5 a zone; from mu |beta| = 0.6 under force control the solve takes
+    # the corner's 2.5 a zone first (pipeline/corner.py), where the first Newton converges
+    corner_zone = "coupling is strong" in r.attributes.get("zone_note", "")
+    assert "direct, monotone" in r.strategies or "creep root" in r.strategies or corner_zone
 
 
 def test_helpers_materials_are_the_papers_pair():

@@ -62,9 +62,13 @@ def measured_plan(case: Case, use_cache: bool = True) -> Plan:
 
 
 def prepare(case: Case, use_cache: bool = True) -> tuple[Plan, ContactSystem]:
-    """The measured plan and its contact system (sweeps share them)."""
+    """The measured plan and its contact system (sweeps share them); a strongly coupled case's on
+    the corner's zone (:func:`~rolling_cli.pipeline.corner.corner_zone`, as a solve alone takes it)."""
     the_plan = measured_plan(case, use_cache)
-    return the_plan, build_contact_system(case, the_plan, use_cache)
+    zoned = corner_zone(case, the_plan)
+    if zoned is not case:
+        the_plan = plan(zoned, half_width=the_plan.half_width)
+    return the_plan, build_contact_system(zoned, the_plan, use_cache)
 
 
 #: Enlarging the potential zone: factor per step, and the largest zone / a.
@@ -95,9 +99,13 @@ class MeshPath:
         estimates_only: bool = False,
         compare_start: bool = False,
     ) -> None:
-        self.case = case if system is not None else corner_zone(case, base)
+        self.case = corner_zone(case, base)
         if self.case is not case:  # the same contact scale on the larger zone
-            base = plan(self.case, half_width=base.half_width) if base.measured else plan(self.case)
+            zoned = plan(self.case, half_width=base.half_width) if base.measured else plan(self.case)
+            if system is None or system.x.shape == zoned.grid.x.shape:  # a given system: built by prepare
+                base = zoned
+            else:
+                self.case = case
         self.base = base
         self.given = system
         self.start = start

@@ -51,9 +51,12 @@ def solve(
     Raises ConvergenceError or GrossSlidingError."""
     strategy = strategies.default(task, settle, restart, restart_settle)
     steps: contextlib.AbstractContextManager = contextlib.nullcontext()
+    if corner is not None and cold and corner_path.applies_force(task):
+        path = functools.partial(corner_path.force_path, origin=corner)
+        strategy = strategies.first_success(path, strategy, name=task.formulation)
     if corner is not None and corner_path.applies(task):
         path = functools.partial(corner_path.creep_path, origin=corner)
-        first = [path] if cold else [corner_path.NEWTON, corner_path.nudged]
+        first = [path] if cold else corner_path.warm_chain(start)
         strategy = strategies.first_success(*first, strategy, name=task.formulation)
         if task.system.matrix_free:
             from .matrix_free import exact_steps

@@ -15,6 +15,8 @@ against 11 of 11 on 104 coarse elements), by the continuation driver that the co
 from __future__ import annotations
 
 import dataclasses
+import functools
+import math
 
 import numpy as np
 
@@ -111,13 +113,38 @@ def _targets(target: float) -> list[float]:
     return [float(v) for v in np.linspace(0.0, target, STEPS + 1)[1:]]
 
 
-#: The creepages, as factors of the task's, from which :func:`nudged` walks to it.
-NUDGES = (0.97, 1.03)
+#: The creepages, as factors of the task's, from which :func:`nudged` walks to it, in order: each
+#: tried from the start handed on (issue 23's case, 417 elements, the four creepages of 41 that the
+#: first two left failing: 0.016 converged from 1.05 and 1.1, 0.029 from 0.97 and 1.1, 0.031 from
+#: 1.03, 0.040 from 0.94; benchmarks/RESULTS.md, "the last failures").
+NUDGES = (0.97, 1.03, 0.94, 1.06, 0.9, 1.1)
 
 
-def nudged(task: Task, start: State, budget: Budget, cold: bool = False) -> Solution:
-    """:data:`NEWTON` at a creepage a few per cent off the task's (each of :data:`NUDGES`) from
-    ``start``, then at the task's from that solution (creepage control of a coupled task).
+#: Newton iterations a nudged creepage may take before the next is tried: converged ones took 9-38
+#: (the four creepages above), failing ones cycle for 15-80 before the stagnation test stops them.
+NUDGE_ITERATIONS = 40
+
+
+def _capped(budget: Budget, most: int) -> Budget:
+    """A budget of at most ``most`` more iterations sharing ``budget``'s count and history (the
+    caller copies its count back)."""
+    return Budget(min(budget.limit, budget.taken + most), budget.taken, budget.history)
+
+
+def nudged(
+    task: Task,
+    start: State,
+    budget: Budget,
+    cold: bool = False,
+    origin: State | None = None,
+    factors: tuple[float, ...] = NUDGES,
+    most: int | None = NUDGE_ITERATIONS,
+) -> Solution:
+    """:data:`NEWTON` at a creepage a few per cent off the task's (each of ``factors`` in turn, at
+    most ``most`` iterations each, None: no cap) from ``origin`` (the level's own start: a failed Newton's
+    best iterate, which a chain hands on, has the fragmented node states; ``start`` when None), then
+    from that solution the creepage path (the continuation driver, its step halved on a failure) to
+    the task's (creepage control of a coupled task).
 
     For a start transferred from a coarser grid whose Newton cycles at the stick/slip boundary: on
     issue 23's case (417 elements, xi = 0.016) Newton from the 104-element solution alternated
@@ -128,17 +155,131 @@ def nudged(task: Task, start: State, budget: Budget, cold: bool = False) -> Solu
     if not applies(task) or target == 0.0:
         return NEWTON(task, start, budget, cold=cold)
     failure = None
-    for factor in NUDGES:
+    start = start if origin is None else origin
+    for factor in factors:
         guess = start.copy()
         guess.creep = factor * target
+        trial = budget if most is None else _capped(budget, most)
         try:
-            near = NEWTON(_at_creep(task, factor * target), guess, budget, cold=cold)
-            guess = near.state.copy()
-            guess.creep = target
-            return NEWTON(task, guess, budget)
+            near = NEWTON(_at_creep(task, factor * target), guess, trial, cold=cold)
         except StrategyFailed as err:
             failure = err
-            if budget.exhausted:
-                break
+            continue
+        finally:
+            budget.taken = trial.taken
+        if budget.exhausted:
+            break
+        try:
+            return _walk(task, factor * target, near, budget)
+        except StrategyFailed as err:
+            failure = err
+        if budget.exhausted:
+            break
     assert failure is not None
     raise StrategyFailed("nudged", failure.stage, failure.reason, failure.best, failure.residual) from None
+
+
+def _walk(task: Task, xi: float, near: Solution, budget: Budget) -> Solution:
+    """From ``near`` (the solution at creepage ``xi``) to the task's creepage by :data:`NEWTON`,
+    halving the step after a failure (:func:`continuation.follow`)."""
+
+    def solve_at(value: float, guess: State) -> tuple[Solution, int]:
+        before = budget.taken
+        guess = guess.copy()
+        guess.creep = value
+        return NEWTON(_at_creep(task, value), guess, budget), budget.taken - before
+
+    points = [(xi, near)]
+    try:
+        continuation.follow(
+            [task.controls.tangential[1]],
+            solve_at,
+            lambda points, _s: points[-1][1].state.copy(),
+            points,
+            failure=StrategyFailed,
+            control=continuation.StepControl(easy=8, min_fraction=1.0 / 8.0),
+            budget=budget,
+        )
+    except continuation.ContinuationFailed as err:
+        best = err.best.state if err.best is not None else None
+        raise StrategyFailed("nudged", f"xi = {err.parameter:.4g}", err.reason, best, err.residual) from None
+    return points[-1][1]
+
+
+def warm_chain(start: State) -> list:
+    """The corner's first strategies for a warm level from ``start`` (a coarser grid's solution):
+    :data:`NEWTON`; :func:`nudged` from its best iterate at 0.97 and 1.03 of the creepage, uncapped;
+    :func:`nudged` from ``start`` at every one of :data:`NUDGES`, capped. Issue 23's case, 41
+    creepages at mu |beta| = 1.09: the first two alone converged 37 of 41 (xi = 0.035 by the second,
+    594 iterations); the first and third alone converged the four others but lost 0.035
+    (benchmarks/RESULTS.md, "the last failures")."""
+    return [NEWTON, functools.partial(nudged, factors=NUDGES[:2], most=None), functools.partial(nudged, origin=start)]
+
+
+def applies_force(task: Task) -> bool:
+    """Whether :func:`force_path` is a path for ``task``: a coupled Coulomb solve under force control."""
+    return task.formulation == "coupled" and task.friction is None and task.controls.force is not None
+
+
+class _Crossed(Exception):
+    """The creepage path of :func:`force_path` passed the force between two solutions."""
+
+    def __init__(self, bracket: tuple) -> None:
+        self.bracket = bracket
+        super().__init__("crossed")
+
+
+def force_path(task: Task, start: State, budget: Budget, cold: bool = False, origin: State | None = None) -> Solution:
+    """Force control of a strongly coupled task by the creepage path: from xi = 0 (``origin``, else
+    ``start`` without traction) towards three times ``start``'s creepage (the closed-form estimate for
+    the force) in steps of 1/:data:`STEPS` of it, each by :data:`NEWTON` from the last (the step
+    halved after a failure), until Q passes the prescribed force; then :data:`NEWTON` under force
+    control from the nearer of the two with the creepage interpolated linearly between them."""
+    estimate = float(start.creep)
+    if not applies_force(task) or estimate == 0.0:
+        return NEWTON(task, start, budget, cold=cold)
+    guess = (start if origin is None else origin).copy()
+    if origin is None:
+        guess.p_t = np.zeros_like(guess.p_t)
+    guess.creep = 0.0
+    weights = task.system.weights
+    try:
+        first = NEWTON(_at_creep(task, 0.0), guess, budget, cold=cold)
+    except StrategyFailed as err:
+        raise StrategyFailed("force path", "xi = 0", err.reason, err.best, err.residual) from None
+    target = task.problem(task.full_mode).force_target(first.state.p_n)[0]
+    points = [(0.0, first)]
+
+    def miss(solution: Solution) -> float:
+        return float(weights @ solution.state.p_t) - target
+
+    def solve_at(xi: float, guess: State) -> tuple[Solution, int]:
+        before = budget.taken
+        guess = guess.copy()
+        guess.creep = xi
+        here = NEWTON(_at_creep(task, xi), guess, budget)
+        if miss(here) * miss(points[-1][1]) <= 0.0:
+            raise _Crossed((points[-1], (xi, here)))
+        return here, budget.taken - before
+
+    targets = [k * estimate / STEPS for k in range(1, 3 * STEPS + 1)]
+    try:
+        continuation.follow(
+            targets,
+            solve_at,
+            lambda points, _s: points[-1][1].state.copy(),
+            points,
+            failure=StrategyFailed,
+            control=continuation.StepControl(easy=8),
+            budget=budget,
+        )
+    except _Crossed as crossed:
+        (xi_0, one), (xi_1, other) = crossed.bracket
+        m0, m1 = miss(one), miss(other)
+        guess = (other if abs(m1) <= abs(m0) else one).state.copy()
+        guess.creep = xi_0 + (xi_1 - xi_0) * m0 / (m0 - m1)
+        return NEWTON(task, guess, budget)
+    except continuation.ContinuationFailed as err:
+        best = err.best.state if err.best is not None else None
+        raise StrategyFailed("force path", f"xi = {err.parameter:.4g}", err.reason, best, err.residual) from None
+    raise StrategyFailed("force path", f"xi = {points[-1][0]:.4g}", "the force was not reached", None, math.nan)
