@@ -1,3 +1,4 @@
+import os
 import sys
 from pathlib import Path
 
@@ -7,6 +8,11 @@ import pytest
 
 matplotlib.use("Agg")
 sys.path.insert(0, str(Path(__file__).parent))
+
+if os.environ.get("PYTEST_XDIST_WORKER"):  # one test process per core (pytest-xdist): one BLAS thread each
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")  # (two workers of two spinning threads on two cores waste CPU)
 
 
 @pytest.fixture(autouse=True)

@@ -247,7 +247,7 @@ def force_path(task: Task, start: State, budget: Budget, cold: bool = False, ori
         first = NEWTON(_at_creep(task, 0.0), guess, budget, cold=cold)
     except StrategyFailed as err:
         raise StrategyFailed("force path", "xi = 0", err.reason, err.best, err.residual) from None
-    target = task.problem(task.full_mode).force_target(first.state.p_n)[0]
+    target = task.problem(task.full_mode).force_target(first.state.p_n, first.state.p_t)[0]
     points = [(0.0, first)]
 
     def miss(solution: Solution) -> float:
