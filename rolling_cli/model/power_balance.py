@@ -8,7 +8,7 @@ nu and tangent tau; the traction on A is p nu + t tau (p = p_n <= 0,
 t = p_t), the surface displacement -w nu + u tau (w into the body, u along
 tau). Per unit axial length, and per unit |V| where a power is meant.
 
-**Power put in** (exact mechanics): the shaft's torque T on A (angular
+**Power put in**: the shaft's torque T on A (angular
 momentum: T = -(moment of the contact tractions about the centre)) at omega,
 and the force F_B that drives the flat (its equilibrium: F_B = the contact
 force on A, F) at V_B:
@@ -48,9 +48,17 @@ So the **rolling-resistance force** of a finite roller is
     F_rr = sgn(V) [ int p tan(theta) (1 + eps) ds + int (p u + t w) / R ds ]
          = (hysteresis + frictional power) / |V| + xi Q,
 
-the force on the flat beyond the shaft torque over R (positive resisting),
-computed from the tractions and the solver's surface displacements, and the
-rolling-resistance coefficient is F_rr / P. On a half-space (R -> inf at
+the power balance's force (positive resisting), computed from the tractions
+and the solver's surface displacements, and the rolling-resistance
+coefficient is F_rr / P. Its F_x is the one the linearised gap implies (Q
+plus the pressure's push on the stretched arc), not the x-resultant of the
+arc-frame tractions, sum w (p_n sin(theta) + p_t cos(theta))
+(``shaft_tangential_load``): with that resultant the balance misses the
+losses by 0.5-7 % at a/R = 0.05-0.31 (the review's measurement), the linear
+theory's O(P (a/R)^2) ambiguity of the traction directions, the order of
+T_u / R itself. So the identity, like the half-space's M / R, checks the
+contact side against the bodies' loss (Michell's modal route), not the
+direction of the tractions at large a/R. On a half-space (R -> inf at
 fixed a) F_rr -> sgn(V) sum w p_n x / R = M / R, so F_rr / P is M / (P R) in
 that limit. The naive |V| M / R keeps the first term only: T_u is O(a/R)
 relative to the pressure's push times a / (the pressure shift), 17 % of the

@@ -66,7 +66,7 @@ def _resistance_lines(attrs, length: str, line: str) -> list[str]:
     if force is not None and not math.isnan(force):  # a finite roller on a flat (model/power_balance.py)
         coefficient = (
             f"F_rr/P = {_fmt(attrs['rolling_resistance_coefficient'])}, F_rr = {_fmt(force)} {line} "
-            f"(the flat's drive beyond the shaft torque / R)"
+            f"(the power balance's force: losses / |V| + xi Q)"
         )
     return [
         f"  resistance     {moments}",

@@ -349,7 +349,7 @@ class RollingResistance:
         "1",
     )
     rolling_resistance_force: float | None = quantity(
-        "finite roller on a rigid flat: rolling-resistance force, the flat's drive beyond the shaft torque / R, "
+        "finite roller on a rigid flat: rolling-resistance force of the power balance, "
         "sgn(V) [sum w p_n tan(theta) (1 + eps) + sum w (p_n u + p_t w) / R] (= losses / |V| + xi Q)",
         "force/length",
     )
