@@ -238,7 +238,16 @@ def plot_file(path: str, output: str | None = None, show: bool = False) -> Figur
     with converted(path) as source, h5py.File(source, "r") as handle:
         version(handle)
         fig = sweep_figure(handle, show) if is_sweep(handle) else result_figure(read_case(handle, 0), show)
+    return deliver(fig, output, show)
+
+
+def deliver(fig: Figure, output: str | None, show: bool) -> Figure:
+    """Write ``fig`` to ``output`` (.png, .pdf or .svg; under a temporary name, then renamed, so no
+    partial figure is left) and/or show it; ValueError for another format. Returns ``fig``."""
     if output:
+        ext = os.path.splitext(output)[1].lower()
+        if ext not in FORMATS:
+            raise ValueError(f"{output}: unsupported figure format; allowed: {', '.join(FORMATS)}")
         with outputs.atomic_file(output, replace=True) as tmp:
             fig.savefig(tmp, format=ext[1:], dpi=150)
     if show:

@@ -45,7 +45,7 @@ from ..errors import CaseError
 from ..files.io_hdf5 import read_result
 from ..files.reader import is_sweep
 from ..result import Result
-from .plot import FORMATS, _figure
+from .plot import _figure, deliver
 
 #: Half-width of the drawn window in contact half-widths a (the brief's "about 2-3 a").
 WINDOW = 2.5
@@ -207,13 +207,4 @@ def plot_deformed_file(path: str, output: str | None = None, show: bool = False,
         )
     if not (math.isfinite(magnify) and magnify > 0.0):
         raise CaseError(f"--magnify {magnify}: allowed: a finite number > 0")
-    fig = deformed_figure(result, magnify, show)
-    if output:
-        if not output.lower().endswith(FORMATS):
-            raise ValueError(f"{output}: unsupported figure format; allowed: {', '.join(FORMATS)}")
-        fig.savefig(output, dpi=150)
-    if show:
-        import matplotlib.pyplot as plt
-
-        plt.show()
-    return fig
+    return deliver(deformed_figure(result, magnify, show), output, show)

@@ -19,7 +19,7 @@ from ..errors import CaseError
 from ..files.io_hdf5 import read_result
 from ..files.reader import is_sweep
 from ..result import Result
-from .plot import COLOURS, FORMATS, _figure
+from .plot import COLOURS, _figure, deliver
 
 #: Filled contour levels per map (at most; rounded to nice values).
 LEVELS = 20
@@ -103,13 +103,4 @@ def plot_stress_file(path: str, output: str | None = None, show: bool = False) -
     result = read_result(path)
     if not result.stresses:
         raise CaseError("--stresses: the result holds no stresses; allowed: a case with a [stresses] table", file=path)
-    fig = stress_figure(result, show)
-    if output:
-        if not output.lower().endswith(FORMATS):
-            raise ValueError(f"{output}: unsupported figure format; allowed: {', '.join(FORMATS)}")
-        fig.savefig(output, dpi=150)
-    if show:
-        import matplotlib.pyplot as plt
-
-        plt.show()
-    return fig
+    return deliver(stress_figure(result, show), output, show)

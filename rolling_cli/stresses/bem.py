@@ -149,8 +149,17 @@ def boundary_stresses(data: BoundaryDensities, element: np.ndarray, xi: np.ndarr
     coeff = data.traction[element]
     local = ((coeff[:, 2] * xi + coeff[:, 1]) * xi + coeff[:, 0]) * back  # tau in the (s, n) frame
     strain = ((data.strain[element, 1] * xi + data.strain[element, 0]) * back).real
+    return surface_stresses(local, strain, back, data.shear, data.poisson)
+
+
+def surface_stresses(
+    local: np.ndarray, strain: np.ndarray, back: np.ndarray, shear: float, poisson: float
+) -> np.ndarray:
+    """sigma_xx, sigma_yy, sigma_xy [stress] on the boundary from the traction ``local`` = sigma_sn -
+    i sigma_nn in the (s, n) frame [stress], the tangential strain ``strain`` [-] and ``back`` =
+    e^{-i theta} (the tangent's angle): sigma_ss = (2 G eps_ss + nu sigma_nn) / (1 - nu), shear G."""
     sigma_sn, sigma_nn = local.real, -local.imag  # outward normal n = -i e^{i theta}
-    sigma_ss = (2.0 * data.shear * strain + data.poisson * sigma_nn) / (1.0 - data.poisson)
+    sigma_ss = (2.0 * shear * strain + poisson * sigma_nn) / (1.0 - poisson)
     c, s = back.real, -back.imag  # tangent (c, s), outward normal (s, -c)
     sxx = sigma_ss * c * c + sigma_nn * s * s + 2.0 * sigma_sn * c * s
     syy = sigma_ss * s * s + sigma_nn * c * c - 2.0 * sigma_sn * c * s

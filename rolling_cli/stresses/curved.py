@@ -65,6 +65,7 @@ import numpy as np
 
 from ..influence.bem.elements import gauss, lagrange_coefficients
 from ..influence.bem.mesh import BoundaryMesh
+from .bem import surface_stresses
 
 #: Gauss points of the product integration (its interpolation degree + 1).
 NODES = 12
@@ -376,14 +377,8 @@ def boundary_stresses(data: CurvedData, element: np.ndarray, xi: np.ndarray) -> 
     jac = np.abs(dpoint)
     back = np.conj(dpoint) / jac
     local = traction * back  # (sigma_sn, -sigma_nn): outward normal n = -i e^{i theta}
-    sigma_sn, sigma_nn = local.real, -local.imag
     strain = (ddisp / jac * back).real
-    sigma_ss = (2.0 * data.shear * strain + data.poisson * sigma_nn) / (1.0 - data.poisson)
-    c, s = back.real, -back.imag  # tangent (c, s), outward normal (s, -c)
-    sxx = sigma_ss * c * c + sigma_nn * s * s + 2.0 * sigma_sn * c * s
-    syy = sigma_ss * s * s + sigma_nn * c * c - 2.0 * sigma_sn * c * s
-    sxy = (sigma_ss - sigma_nn) * c * s + sigma_sn * (s * s - c * c)
-    return np.stack([sxx, syy, sxy])
+    return surface_stresses(local, strain, back, data.shear, data.poisson)
 
 
 def stresses(
