@@ -272,7 +272,7 @@ def check(data: dict) -> int:
         else:
             from test_friction_laws import assert_contact_laws_with_law
 
-            assert_contact_laws_with_law(r)
+            assert_contact_laws_with_law(r, require_slip=False)  # a tiny creepage may stick everywhere
         load = data["normal"].get("load")
         ratio = data["tangential"].get("q_over_mu_p")
         mu = data["friction"].get("mu", data["friction"].get("mu_static"))

@@ -304,8 +304,10 @@ def test_contact_laws_hold_with_mu_of_slip_speed(data):
     assert_contact_laws_with_law(solve(data))
 
 
-def assert_contact_laws_with_law(result) -> None:
-    """The contact laws with mu(s_a) at every node (see the test above for the bounds)."""
+def assert_contact_laws_with_law(result, require_slip: bool = True) -> None:
+    """The contact laws with mu(s_a) at every node (see the test above for the bounds);
+    ``require_slip``: a slip zone must exist (the tests' cases have one: the check is not vacuous;
+    a random case at a tiny creepage may stick everywhere)."""
     assert result.converged
     law = friction.from_case(result.case.friction, result.case.rolling)
     s_n = result.traction_scale
@@ -316,7 +318,7 @@ def assert_contact_laws_with_law(result) -> None:
     assert np.all(p_n <= f)
     assert np.all(np.minimum(np.abs(p_n), result.reference_penalty_n * np.abs(gap)) <= f)
     slip = result.state == 2
-    assert slip.any()
+    assert slip.any() or not require_slip
     assert np.all(np.abs(np.abs(p_t[slip]) - mu_nodes[slip] * np.abs(p_n[slip])) <= 2 * law.mu_static * f)
     assert np.all(result.s_t[slip] * p_t[slip] <= 0.0)
     stick = result.state == 1
