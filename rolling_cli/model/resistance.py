@@ -67,7 +67,8 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float, su
     :mod:`rolling_cli.result.quantities`); ``radius`` R* [length], ``system`` its
     :class:`~rolling_cli.solver.system.ContactSystem` (node positions, weights, spacing);
     ``surface`` (w, u) [length], finite body A's surface displacements against a rigid flat
-    (:func:`finite_on_flat`), or None."""
+    (:func:`finite_on_flat`) on a uniform grid (the balance's element rule reads one element
+    length), or None."""
     x, w = system.x, system.weights
     d = float(case.rolling.direction)
     load = float(-(w @ p_n))
@@ -103,10 +104,7 @@ def attributes(case, system, p_n: np.ndarray, p_t: np.ndarray, radius: float, su
             )  # fmt: skip
     coefficient = moment / (normal * radius) if normal > 0.0 else math.nan
     balance = dict.fromkeys(("rolling_resistance_force", "shaft_torque_displacement"), math.nan)
-    steps = np.diff(np.asarray(x, dtype=float))
-    uniform = steps.size > 0 and bool(np.all(np.abs(steps - steps[0]) <= 1e-9 * abs(steps[0])))
-    if surface is not None and finite_on_flat(case) and uniform:  # the finite roller's power balance
-        # (its element rule reads one element length: a graded grid gets NaN rather than a wrong force)
+    if surface is not None and finite_on_flat(case):  # the finite roller's power balance (uniform grids)
         balance = power_balance.roller_on_flat(
             x, 3.0 * float(system.spacing), r_a, int(d), p_n, p_t, surface[0], surface[1]
         )

@@ -129,7 +129,8 @@ def assemble(level: Level, history: list[dict], timings: dict, converged: bool =
     if is_viscoelastic(a) or is_viscoelastic(b):  # rolling resistance, pressure shift, hysteresis (none if elastic)
         from ..model import resistance
 
-        surface = surfaces.get("A") if resistance.finite_on_flat(case) else None  # A's (w, u) on its arc
+        uniform = the_plan.grid.element_edges is None  # F_rr's element rule: one element length
+        surface = surfaces.get("A") if resistance.finite_on_flat(case) and uniform else None  # A's (w, u) on its arc
         attrs.update(resistance.attributes(case, system, p_n, p_t, the_plan.radius, surface))
     reference = _closed_forms(case, system.x, the_plan.radius, q, load, ref_a, ref_p0, attrs)
     result = Result(
